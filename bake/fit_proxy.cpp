@@ -1,0 +1,1 @@
+// Proxy fitting with CGAL (SPEC section 6): implemented in issue #5.

@@ -1,0 +1,1 @@
+// Proxy validation and inverse mappings: implemented in issue #2.
