@@ -2,6 +2,7 @@
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <numeric>
 
 namespace texbake {
@@ -89,32 +90,38 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
   if (rows == 0) return result;
 
   // L_uu c_u = W_ub c_b: each triangle edge adds weight 1 (so an interior edge
-  // of a manifold mesh weighs 2, uniformly: the solution is unchanged).
+  // of a manifold mesh weighs 2, uniformly: the solution is unchanged). Only
+  // the lower triangle is stored: SimplicialLDLT reads no more.
+  std::vector<double> diagonal(rows, 0.0);
   std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(mesh.triangles.size() * 6);
+  triplets.reserve(mesh.triangles.size() * 2 + rows);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows), 4);
-  auto couple = [&](uint32_t a, uint32_t b) {  // a unknown and anchored
-    const auto ra = static_cast<Eigen::Index>(row[slot[a]]);
-    triplets.emplace_back(ra, ra, 1.0);
-    if (slot[b] != kNotUnknown) {
-      triplets.emplace_back(ra, static_cast<Eigen::Index>(row[slot[b]]), -1.0);
-    } else {
-      for (int c = 0; c < 4; ++c) rhs(ra, c) += colors[b][c];
-    }
-  };
+  auto row_of = [&](uint32_t v) { return slot[v] == kNotUnknown ? kNotUnknown : row[slot[v]]; };
   for (const auto& tri : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
       const uint32_t a = tri[k], b = tri[(k + 1) % 3];
-      if (slot[a] != kNotUnknown && row[slot[a]] != kNotUnknown) couple(a, b);
-      if (slot[b] != kNotUnknown && row[slot[b]] != kNotUnknown) couple(b, a);
+      const uint32_t ra = row_of(a), rb = row_of(b);
+      if (ra != kNotUnknown && rb != kNotUnknown) {
+        diagonal[ra] += 1, diagonal[rb] += 1;
+        triplets.emplace_back(std::max(ra, rb), std::min(ra, rb), -1.0);
+      } else if (ra != kNotUnknown) {
+        // b is known (an unanchored unknown never shares an edge with an anchored one).
+        diagonal[ra] += 1;
+        for (int c = 0; c < 4; ++c) rhs(ra, c) += colors[b][c];
+      } else if (rb != kNotUnknown) {
+        diagonal[rb] += 1;
+        for (int c = 0; c < 4; ++c) rhs(rb, c) += colors[a][c];
+      }
     }
   }
+  for (std::size_t r = 0; r < rows; ++r) triplets.emplace_back(r, r, diagonal[r]);
   Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(rows),
                                         static_cast<Eigen::Index>(rows));
   laplacian.setFromTriplets(triplets.begin(), triplets.end());
   triplets = {};
 
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(laplacian);
+  // AMD ordering (Eigen's default) keeps the fill-in of the factor small.
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(laplacian);
   if (solver.info() != Eigen::Success) {
     return make_error(ErrorCode::kInternal, "occlusion fill: factorising the Laplacian failed");
   }
