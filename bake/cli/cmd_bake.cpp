@@ -11,11 +11,12 @@
 #include <cctype>
 #include <chrono>
 #include <cstdio>
-#include <map>
 #include <memory>
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "bake/bake_vertex.h"
 #include "bake/cli/commands.h"
@@ -111,6 +112,33 @@ void add_keyword_or_color(CLI::App& cmd, const std::string& flag, KeywordOrColor
          help)
       ->type_name(keywords.size() == 1 ? keywords[0] + "|R,G,B[,A]"
                                        : keywords[0] + "|" + keywords[1] + "|R,G,B[,A]");
+}
+
+// Adds --flag mapping exactly one of the names in `names` to its enum value.
+// (Not CLI::CheckedTransformer: CLI11 2.1's also accepts the enum's integer
+// values, e.g. "--filter 1", and its message lists the integers.)
+template <class T>
+void add_enum_option(CLI::App& cmd, const std::string& flag, T& target,
+                     const std::vector<std::pair<std::string, T>>& names, const std::string& help) {
+  std::string expected, type_name;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    expected += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + names[i].first;
+    type_name += (i == 0 ? "" : "|") + names[i].first;
+  }
+  cmd.add_option_function<std::string>(
+         flag,
+         [&target, flag, names, expected](const std::string& value) {
+           for (const auto& [name, v] : names) {
+             if (value == name) {
+               target = v;
+               return;
+             }
+           }
+           throw CLI::ValidationError(flag,
+                                      "unknown value '" + value + "' (expected " + expected + ")");
+         },
+         help)
+      ->type_name(type_name);
 }
 
 std::string lower_extension(const fs::path& path) {
@@ -255,49 +283,42 @@ RunFunction add_bake_command(CLI::App& app) {
   auto o = std::make_shared<BakeCliOptions>();
   CLI::App* cmd = app.add_subcommand(
       "bake", "Bake an image onto a mesh through a proxy shape (per-vertex colours)");
-  cmd->add_option("mesh", o->mesh, "Input mesh (.obj, .ply, .off, .stl)")->required();
-  cmd->add_option("--texture", o->texture, "Image to bake (anything OpenImageIO reads)")
+  cmd->add_option("mesh", o->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
+  cmd->add_option("--texture", o->texture, "image to bake (anything OpenImageIO reads)")
       ->required();
-  cmd->add_option("-o,--output", o->output, "Output mesh (.ply, or .obj with --target vertex)")
+  cmd->add_option("-o,--output", o->output, "output mesh (.ply, or .obj with --target vertex)")
       ->required();
   add_geometry_flags(*cmd, o->geometry);
 
-  const std::map<std::string, Target> targets{{"vertex", Target::kVertex},
-                                              {"atlas", Target::kAtlas}};
-  cmd->add_option("--target", o->target,
-                  "vertex | atlas (default: vertex for .ply, atlas for .obj; atlas arrives later)")
-      ->transform(CLI::CheckedTransformer(targets));
-  cmd->add_flag("--ascii", o->ascii, "Write ASCII PLY instead of binary little-endian");
+  add_enum_option<std::optional<Target>>(
+      *cmd, "--target", o->target, {{"vertex", Target::kVertex}, {"atlas", Target::kAtlas}},
+      "vertex | atlas (default: vertex for .ply, atlas for .obj; atlas arrives later)");
+  cmd->add_flag("--ascii", o->ascii, "write ASCII PLY instead of binary little-endian");
 
-  const std::map<std::string, VertexFilter> filters{{"bilinear", VertexFilter::kBilinear},
-                                                    {"area", VertexFilter::kArea}};
-  cmd->add_option("--filter", o->filter,
+  add_enum_option(*cmd, "--filter", o->filter,
+                  {{"bilinear", VertexFilter::kBilinear}, {"area", VertexFilter::kArea}},
                   "bilinear: sample at the vertex; area: average over the vertex's share of its "
-                  "triangles (default)")
-      ->transform(CLI::CheckedTransformer(filters));
-  cmd->add_option("--samples", o->samples, "Samples per vertex for --filter area (default 16)")
+                  "triangles (default)");
+  cmd->add_option("--samples", o->samples, "samples per vertex for --filter area (default 16)")
       ->check(CLI::Range(1, 65536));
 
-  const std::map<std::string, Visibility> visibilities{{"first", Visibility::kFirst},
-                                                       {"all", Visibility::kAll}};
-  cmd->add_option("--visibility", o->visibility,
-                  "first: only what the projector sees is coloured (default); all: no test")
-      ->transform(CLI::CheckedTransformer(visibilities));
+  add_enum_option(*cmd, "--visibility", o->visibility,
+                  {{"first", Visibility::kFirst}, {"all", Visibility::kAll}},
+                  "first: only what the projector sees is coloured (default); all: no test");
   add_keyword_or_color(*cmd, "--occluded", o->occluded, {"fill", "project"},
-                       "Occluded vertices: fill (smooth from visible neighbours, default), "
+                       "occluded vertices: fill (smooth from visible neighbours, default), "
                        "project (projected colour anyway) or a colour R,G,B[,A] in [0,1]");
   add_keyword_or_color(*cmd, "--outside", o->outside, {"clamp"},
-                       "Points outside the proxy's (u,v) domain: clamp (edge texel, default) "
+                       "points outside the proxy's (u,v) domain: clamp (edge texel, default) "
                        "or a colour R,G,B[,A] in [0,1]");
-  const std::map<std::string, WrapMode> wraps{{"clamp", WrapMode::kClamp},
-                                              {"repeat", WrapMode::kRepeat}};
-  cmd->add_option("--wrap", o->wrap, "Plane proxy only: clamp (default) or repeat (tile)")
-      ->transform(CLI::CheckedTransformer(wraps));
-  cmd->add_flag("--linear", o->linear, "Interpolate and average in linear light (sRGB image)");
-  cmd->add_option("--report", o->report, "Write what was done as JSON to this file");
-  cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)")
+  add_enum_option<std::optional<WrapMode>>(
+      *cmd, "--wrap", o->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
+      "plane proxy only: clamp (default) or repeat (tile)");
+  cmd->add_flag("--linear", o->linear, "interpolate and average in linear light (sRGB image)");
+  cmd->add_option("--report", o->report, "write what was done as JSON to this file");
+  cmd->add_option("--threads", o->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
-  cmd->add_flag("-q,--quiet", o->quiet, "No progress bar, no summary");
+  cmd->add_flag("-q,--quiet", o->quiet, "no progress bar, no summary");
   return [o] { return run_bake(*o); };
 }
 
