@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/proxy_json.h"
 
 namespace texbake {
 
@@ -11,60 +12,10 @@ namespace {
 
 using nlohmann::ordered_json;
 
-ordered_json vec_json(Vec3 v) {
-  return ordered_json::array({v.x, v.y, v.z});
-}
-
-// The vector the proxy actually used: make_proxy fills in a missing equator,
-// so params_of() output always has one; an absent one is written as null.
-ordered_json optional_vec_json(const std::optional<Vec3>& v) {
-  return v ? vec_json(*v) : ordered_json(nullptr);
-}
-
+// The proxy as SPEC section 2's JSON object, by the one serialiser of
+// mesh_io/proxy_json.h (kept in key order).
 ordered_json proxy_json(const ProxyParams& params) {
-  return std::visit(
-      [](const auto& p) -> ordered_json {
-        using T = std::decay_t<decltype(p)>;
-        ordered_json j;
-        if constexpr (std::is_same_v<T, SphereParams>) {
-          j["kind"] = "sphere";
-          j["center"] = vec_json(p.center);
-          j["radius"] = p.radius;
-          j["pole"] = vec_json(p.pole);
-          j["equator"] = optional_vec_json(p.equator);
-        } else if constexpr (std::is_same_v<T, CylinderParams>) {
-          j["kind"] = "cylinder";
-          j["base"] = vec_json(p.base);
-          j["axis"] = vec_json(p.axis);
-          j["equator"] = optional_vec_json(p.equator);
-          j["radius"] = p.radius;
-          j["height"] = p.height;
-        } else if constexpr (std::is_same_v<T, ConeParams>) {
-          j["kind"] = "cone";
-          j["apex"] = vec_json(p.apex);
-          j["axis"] = vec_json(p.axis);
-          j["equator"] = optional_vec_json(p.equator);
-          j["height"] = p.height;
-          j["radius"] = p.radius;
-        } else if constexpr (std::is_same_v<T, DiskParams>) {
-          j["kind"] = "disk";
-          j["center"] = vec_json(p.center);
-          j["normal"] = vec_json(p.normal);
-          j["equator"] = optional_vec_json(p.equator);
-          j["radius"] = p.radius;
-        } else if constexpr (std::is_same_v<T, QuadParams>) {
-          j["kind"] = "quad";
-          j["corners"] = ordered_json::array();
-          for (const Vec3& c : p.corners) j["corners"].push_back(vec_json(c));
-        } else {
-          j["kind"] = "plane";
-          j["origin"] = vec_json(p.origin);
-          j["u_axis"] = vec_json(p.u_axis);
-          j["v_axis"] = vec_json(p.v_axis);
-        }
-        return j;
-      },
-      params);
+  return ordered_json::parse(proxy_params_to_json(params));
 }
 
 const char* name(VertexFilter f) {
@@ -82,10 +33,6 @@ ordered_json color_json(const Rgba& c) {
 }
 
 }  // namespace
-
-std::string proxy_params_json(const ProxyParams& params) {
-  return proxy_json(params).dump();
-}
 
 std::string report_json(const BakeReport& r) {
   ordered_json j;

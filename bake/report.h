@@ -51,9 +51,6 @@ struct BakeReport {
 // The JSON text of the layout above (pretty-printed, 2 spaces, ends with a newline).
 std::string report_json(const BakeReport& report);
 
-// The parameters of a proxy as the JSON object of SPEC section 2 (text).
-std::string proxy_params_json(const ProxyParams& params);
-
 // Writes report_json(report) to path through write_atomically. Errors: kIo naming path.
 Status write_report(const std::filesystem::path& path, const BakeReport& report);
 
