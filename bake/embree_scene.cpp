@@ -224,7 +224,7 @@ Expected<EmbreeScene> EmbreeScene::build(const MeshData& mesh, BuildQuality qual
   // slip through the cracks (tests/bake: RaysThroughSharedEdgesHit misses 85
   // of 1104 interior edges without it, none with it). Exact vertex hits can
   // still leak in rare cases (RenderKit/embree#188, #387).
-  rtcSetSceneFlags(impl->scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneFlags(impl->scene, static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_COMPACT));
 
   // An empty mesh gets an empty scene: every ray is free.
   if (!mesh.triangles.empty()) {

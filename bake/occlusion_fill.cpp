@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 namespace texbake {
 
@@ -75,26 +76,48 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
     if (touches_known[i]) anchored[sets.find(static_cast<uint32_t>(i))] = 1;
   }
 
-  // Renumber the anchored unknowns (the system's rows); the others fall back.
-  std::vector<uint32_t> row(m, kNotUnknown);
-  std::size_t rows = 0;
+  // Rows of the system: the anchored unknowns, numbered so that each
+  // component's rows are contiguous (components in order of their smallest
+  // unknown, vertices in input order within one). The others fall back.
+  std::vector<uint32_t> component_of_root(m, kNotUnknown);
+  std::vector<uint32_t> component_start;  // first row of each component, + total
   for (std::size_t i = 0; i < m; ++i) {
-    if (anchored[sets.find(static_cast<uint32_t>(i))]) {
-      row[i] = static_cast<uint32_t>(rows++);
-    } else {
-      colors[vertex_of[i]] = fallback(vertex_of[i]);
-      ++result.unfilled;
+    const uint32_t root = sets.find(static_cast<uint32_t>(i));
+    if (!anchored[root]) continue;
+    if (component_of_root[root] == kNotUnknown) {
+      component_of_root[root] = static_cast<uint32_t>(component_start.size());
+      component_start.push_back(0);
+    }
+    ++component_start[component_of_root[root]];
+  }
+  const std::size_t components = component_start.size();
+  {
+    uint32_t total = 0;
+    for (uint32_t& c : component_start) total += std::exchange(c, total);
+    component_start.push_back(total);
+  }
+  std::vector<uint32_t> row(m, kNotUnknown);
+  {
+    std::vector<uint32_t> next(component_start.begin(), component_start.end() - 1);
+    for (std::size_t i = 0; i < m; ++i) {
+      const uint32_t root = sets.find(static_cast<uint32_t>(i));
+      if (anchored[root]) {
+        row[i] = next[component_of_root[root]]++;
+      } else {
+        colors[vertex_of[i]] = fallback(vertex_of[i]);
+        ++result.unfilled;
+      }
     }
   }
+  const std::size_t rows = component_start.back();
   result.filled = rows;
   if (rows == 0) return result;
 
   // L_uu c_u = W_ub c_b: each triangle edge adds weight 1 (so an interior edge
-  // of a manifold mesh weighs 2, uniformly: the solution is unchanged). Only
-  // the lower triangle is stored: SimplicialLDLT reads no more.
+  // of a manifold mesh weighs 2, uniformly: the solution is unchanged).
   std::vector<double> diagonal(rows, 0.0);
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(mesh.triangles.size() * 2 + rows);
+  std::vector<std::pair<uint32_t, uint32_t>> couplings;  // (row, column), row > column
+  couplings.reserve(mesh.triangles.size());
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows), 4);
   auto row_of = [&](uint32_t v) { return slot[v] == kNotUnknown ? kNotUnknown : row[slot[v]]; };
   for (const auto& tri : mesh.triangles) {
@@ -103,7 +126,7 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
       const uint32_t ra = row_of(a), rb = row_of(b);
       if (ra != kNotUnknown && rb != kNotUnknown) {
         diagonal[ra] += 1, diagonal[rb] += 1;
-        triplets.emplace_back(std::max(ra, rb), std::min(ra, rb), -1.0);
+        couplings.emplace_back(std::max(ra, rb), std::min(ra, rb));
       } else if (ra != kNotUnknown) {
         // b is known (an unanchored unknown never shares an edge with an anchored one).
         diagonal[ra] += 1;
@@ -114,25 +137,51 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
       }
     }
   }
-  for (std::size_t r = 0; r < rows; ++r) triplets.emplace_back(r, r, diagonal[r]);
-  Eigen::SparseMatrix<double> laplacian(static_cast<Eigen::Index>(rows),
-                                        static_cast<Eigen::Index>(rows));
-  laplacian.setFromTriplets(triplets.begin(), triplets.end());
-  triplets = {};
-
-  // AMD ordering (Eigen's default) keeps the fill-in of the factor small.
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(laplacian);
-  if (solver.info() != Eigen::Success) {
-    return make_error(ErrorCode::kInternal, "occlusion fill: factorising the Laplacian failed");
+  // Group the couplings by component (a stable counting sort on their row).
+  std::vector<uint32_t> component_of_row(rows);
+  for (std::size_t c = 0; c < components; ++c) {
+    std::fill(component_of_row.begin() + component_start[c],
+              component_of_row.begin() + component_start[c + 1], static_cast<uint32_t>(c));
   }
-  const Eigen::MatrixXd solution = solver.solve(rhs);
-  if (solver.info() != Eigen::Success) {
-    return make_error(ErrorCode::kInternal, "occlusion fill: solving the Laplace system failed");
+  std::vector<uint32_t> coupling_start(components + 1, 0);
+  for (const auto& [r, col] : couplings) ++coupling_start[component_of_row[r] + 1];
+  for (std::size_t c = 0; c < components; ++c) coupling_start[c + 1] += coupling_start[c];
+  std::vector<std::pair<uint32_t, uint32_t>> grouped(couplings.size());
+  {
+    std::vector<uint32_t> next(coupling_start.begin(), coupling_start.end() - 1);
+    for (const auto& e : couplings) grouped[next[component_of_row[e.first]]++] = e;
+  }
+  couplings = {};
+
+  // One sparse symmetric positive definite solve per component: a component's
+  // factor is freed before the next is built, so the peak memory is that of
+  // the largest component, not of all. Only the lower triangle is stored
+  // (SimplicialLDLT reads no more); AMD ordering (Eigen's default) keeps the
+  // factor's fill-in small.
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (std::size_t c = 0; c < components; ++c) {
+    const uint32_t first = component_start[c];
+    const auto size = static_cast<Eigen::Index>(component_start[c + 1] - first);
+    triplets.clear();
+    for (uint32_t k = coupling_start[c]; k < coupling_start[c + 1]; ++k) {
+      triplets.emplace_back(grouped[k].first - first, grouped[k].second - first, -1.0);
+    }
+    for (Eigen::Index r = 0; r < size; ++r) triplets.emplace_back(r, r, diagonal[first + r]);
+    Eigen::SparseMatrix<double> laplacian(size, size);
+    laplacian.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(laplacian);
+    if (solver.info() != Eigen::Success) {
+      return make_error(ErrorCode::kInternal, "occlusion fill: factorising the Laplacian failed");
+    }
+    rhs.middleRows(first, size) = solver.solve(rhs.middleRows(first, size)).eval();
+    if (solver.info() != Eigen::Success) {
+      return make_error(ErrorCode::kInternal, "occlusion fill: solving the Laplace system failed");
+    }
   }
   for (std::size_t i = 0; i < m; ++i) {
     if (row[i] == kNotUnknown) continue;
     const auto r = static_cast<Eigen::Index>(row[i]);
-    for (int c = 0; c < 4; ++c) colors[vertex_of[i]][c] = static_cast<float>(solution(r, c));
+    for (int c = 0; c < 4; ++c) colors[vertex_of[i]][c] = static_cast<float>(rhs(r, c));
   }
   return result;
 }
