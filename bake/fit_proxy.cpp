@@ -53,13 +53,19 @@ constexpr double kZeroRelative = 1e-6;
 // more than 10 degrees from horizontal (|up projected| > sin 10 degrees).
 constexpr double kCos10Degrees = 0.98480775301220806;
 constexpr double kSin10Degrees = 0.17364817766693033;
-// A direction counts as perpendicular to up when |dot| is below this.
-constexpr double kPerpendicularDot = 1e-9;
+// A direction counts as perpendicular to up when |dot| is below this
+// (sin 1 degree): a fitted wall's normal is only that close to horizontal, and
+// its side must not flip with the noise.
+constexpr double kPerpendicularDot = 0.017452406437283512;
 // Cone profile: at most this many height bins (more only adds noise).
 constexpr int kMaxProfileBins = 64;
 // Minimum points per profile bin on average, so each bin's maximum radius is
 // a sample of the envelope rather than of a single noisy point.
 constexpr std::size_t kPointsPerBin = 16;
+// Cone profile: a bin's outer shell is its points within this fraction of the
+// largest radius below the bin's maximum (wide enough for the noise of a
+// scan, narrow enough to drop a cap's interior).
+constexpr double kShellBand = 0.05;
 // A cone whose apex lies further than this many axial extents from the points
 // is a cylinder in disguise: report it instead of returning a huge cone.
 constexpr double kMaxApexDistance = 100;
@@ -460,23 +466,38 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
   const AxisFrame& f = *frame;
   const std::size_t n = f.h.size();
 
-  // Radius-versus-height profile: the largest distance from the axis in each
-  // height bin traces the cone's outline (its upper envelope), whatever part
-  // of the interior is sampled too.
+  // Radius-versus-height profile. In each height bin, the points within
+  // kShellBand of the bin's largest radius form the outer shell (a cap,
+  // interior or an inner wall lie further in and drop out); the shell's mean
+  // (h, rho) lies on the cone's generator, unbiased by noise that is
+  // symmetric about the surface. (The bin maxima alone would be biased
+  // outwards by the noise, which moves the apex by noise / sin(half-angle).)
   std::vector<double> rho(n);
+  double rho_max = 0;
   for (std::size_t i = 0; i < n; ++i) {
     rho[i] = std::hypot(f.across[i].x() - f.circle.x, f.across[i].y() - f.circle.y);
+    rho_max = std::max(rho_max, rho[i]);
   }
   const int bins = static_cast<int>(std::clamp<std::size_t>(n / kPointsPerBin, 2, kMaxProfileBins));
   const double extent = f.h_max - f.h_min;
-  std::vector<int> best(bins, -1);
+  auto bin_of = [&](std::size_t i) {
+    return std::min(bins - 1, static_cast<int>((f.h[i] - f.h_min) / extent * bins));
+  };
+  std::vector<double> bin_max(bins, -1);
+  for (std::size_t i = 0; i < n; ++i) bin_max[bin_of(i)] = std::max(bin_max[bin_of(i)], rho[i]);
+  const double band = kShellBand * rho_max;
+  std::vector<double> sum_h(bins, 0), sum_rho(bins, 0);
+  std::vector<std::size_t> count(bins, 0);
   for (std::size_t i = 0; i < n; ++i) {
-    const int b = std::min(bins - 1, static_cast<int>((f.h[i] - f.h_min) / extent * bins));
-    if (best[b] < 0 || rho[i] > rho[best[b]]) best[b] = static_cast<int>(i);
+    const int b = bin_of(i);
+    if (rho[i] < bin_max[b] - band) continue;
+    sum_h[b] += f.h[i];
+    sum_rho[b] += rho[i];
+    ++count[b];
   }
   std::vector<K::Point_2> profile;
-  for (int i : best) {
-    if (i >= 0) profile.emplace_back(f.h[i], rho[i]);
+  for (int b = 0; b < bins; ++b) {
+    if (count[b] > 0) profile.emplace_back(sum_h[b] / count[b], sum_rho[b] / count[b]);
   }
   if (profile.size() < 2) return invalid(kKind, "the points have no extent along the axis");
 
@@ -488,17 +509,14 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
   CGAL::linear_least_squares_fitting_2(profile.begin(), profile.end(), line, centroid,
                                        CGAL::Dimension_tag<0>(), K(),
                                        CGAL::Eigen_diagonalize_traits<double, 2>());
-  // line: a h + b rho + c = 0  =>  rho = -(a h + c) / b, slope = -a / b.
+  // line: a h + b rho + c = 0  =>  rho = intercept + slope h.
   if (line.b() == 0) return invalid(kKind, "the points have no extent along the axis");
   const double slope = -line.a() / line.b();
-  // Move the line outwards until every point is inside the cone (rho_i <=
-  // intercept + slope h_i); noise then enlarges the cone slightly rather than
-  // leaving points outside its surface.
-  double intercept = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < n; ++i) intercept = std::max(intercept, rho[i] - slope * f.h[i]);
+  const double intercept = -line.c() / line.b();
 
-  // Apex where the line meets the axis; it lies beyond the narrow end, since
-  // the line is above every point's radius there.
+  // Apex where the line meets the axis; the base plane at the far end of the
+  // points, so every point lies between base and apex planes (up to noise
+  // at the tip).
   const double h_apex = slope == 0 ? std::numeric_limits<double>::infinity() : -intercept / slope;
   const bool apex_up = slope < 0;  // radius shrinks with h: apex on the +axis side
   const double h_base = apex_up ? f.h_min : f.h_max;
@@ -507,6 +525,10 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
                    "the radius barely changes along the axis (the apex would lie more than " +
                        std::to_string(static_cast<int>(kMaxApexDistance)) +
                        " times the height away); fit a cylinder instead");
+  }
+  const double radius = intercept + slope * h_base;
+  if (!(radius > kZeroRelative * local->diagonal)) {
+    return invalid(kKind, "the points do not narrow towards an apex");
   }
   if (options.axis && options.keep_axis_sign && !apex_up) {
     return invalid(kKind,
@@ -517,7 +539,7 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
   c.axis = apex_up ? f.axis : -f.axis;
   c.apex = axis_point(f, *local, h_apex);
   c.height = std::abs(h_apex - h_base);
-  c.radius = intercept + slope * h_base;
+  c.radius = radius;
   c.equator = equator_for(c.axis);
   return c;
 }

@@ -4,7 +4,8 @@
 //
 // What each fit returns (all vectors unit, every optional field filled):
 //  - sphere: the minimum enclosing sphere (CGAL Min_sphere_of_spheres_d).
-//    pole = the fixed axis if given, else `up`.
+//    pole = the fixed axis if given (flipped into the up hemisphere unless
+//    keep_axis_sign), else `up`.
 //  - cylinder: axis from a principal component analysis (CGAL
 //    linear_least_squares_fitting_3) or the fixed axis; the axis line passes
 //    through the centre of the minimum enclosing circle of the points
@@ -12,12 +13,16 @@
 //    (every point lies within `radius` of the axis); base and height span the
 //    points' extent along the axis. The axis points into the up hemisphere.
 //  - cone: axis line as the cylinder's. The radius-versus-height profile
-//    (largest distance from the axis in each of up to 64 height bins) is
-//    fitted by a line (CGAL linear_least_squares_fitting_2, orthogonal
-//    regression), which is then moved outwards until no point lies outside
-//    it, so the cone encloses the points. apex = where that line meets the
-//    axis (on the narrow end); base plane at the points' far end; axis points
-//    from the base to the apex (whatever `up` says).
+//    (in each of up to 64 height bins, the mean height and radius of the
+//    outer shell: the points within 5% of the largest radius below the bin's
+//    maximum) is fitted by a line (CGAL linear_least_squares_fitting_2,
+//    orthogonal regression). apex = where the line meets the axis (the narrow
+//    end); base plane at the points' far end; radius = the line's radius
+//    there; the axis points from the base to the apex (whatever `up` says).
+//    The cone follows the middle of the surface's noise rather than
+//    enclosing it (an enclosing cone's apex would move by noise divided by
+//    sin(half-angle)): points may lie outside the lateral surface by about
+//    the noise, never beyond the base plane.
 //  - disk: best-fit plane (linear_least_squares_fitting_3), then the minimum
 //    enclosing circle of the points projected on it. The normal points into
 //    the up hemisphere.
@@ -25,16 +30,17 @@
 //    of the projected points (CGAL convex_hull_2 + min_rectangle_2). Seen from
 //    the normal's tip (normal in the up hemisphere), u runs to the right and v
 //    up, u x v = normal (SPEC section 1): v is the rectangle side closest to
-//    `up` projected into the plane; when the plane is within 10 degrees of
-//    perpendicular to `up` (a floor seen from above), v is the side closest to
+//    `up` projected into the plane; when the normal is within 10 degrees of
+//    `up` (a floor seen from above), v is the side closest to
 //    normal x equator (the equator rule below), so u follows +X for a
 //    horizontal plane with up = +Z. plane: origin = p00, u_axis = p10 - p00,
 //    v_axis = p01 - p00 (the axis lengths are the rectangle's sides).
 //
 // Canonical choices (documented, deterministic):
 //  - "into the up hemisphere": dot(direction, up) > 0; when the direction is
-//    perpendicular to up, the first of +X, +Y, +Z it is not perpendicular to
-//    decides instead.
+//    within 1 degree of perpendicular to up (a wall's normal), the first of
+//    +X, +Y, +Z it is not within 1 degree of perpendicular to decides
+//    instead (so a fitted wall does not flip sides with the noise).
 //  - equator: the first of +X, +Y, +Z that makes at least 10 degrees with the
 //    pole/axis/normal, made perpendicular to it (Gram-Schmidt). For axes
 //    along a coordinate axis this is SPEC section 1's default; near-parallel
