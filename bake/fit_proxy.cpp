@@ -116,6 +116,11 @@ Expected<Vec3> unit_direction(Vec3 v, const char* kind, const char* name) {
   return v / len;
 }
 
+// -0.0 + 0.0 == +0.0: printed proxies say 0, not -0, for axes like -(-Y).
+Vec3 tidy(Vec3 v) {
+  return v + Vec3{0, 0, 0};
+}
+
 Vec3 to_vec(const K::Point_3& p) {
   return {p.x(), p.y(), p.z()};
 }
@@ -425,8 +430,8 @@ Expected<SphereParams> fit_sphere(std::span<const Float3> input, const FitOption
   SphereParams s;
   s.center = local->offset + center;
   s.radius = std::max(min_sphere.radius(), std::sqrt(r2));
-  s.pole = up_pole;
-  s.equator = equator_for(up_pole);
+  s.pole = tidy(up_pole);
+  s.equator = tidy(equator_for(up_pole));
   return s;
 }
 
@@ -451,7 +456,8 @@ Expected<CylinderParams> fit_cylinder(std::span<const Float3> input, const FitOp
     c.axis = f.axis;
     c.base = axis_point(f, *local, f.h_min);
   }
-  c.equator = equator_for(c.axis);
+  c.axis = tidy(c.axis);
+  c.equator = tidy(equator_for(c.axis));
   return c;
 }
 
@@ -540,7 +546,8 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
   c.apex = axis_point(f, *local, h_apex);
   c.height = std::abs(h_apex - h_base);
   c.radius = radius;
-  c.equator = equator_for(c.axis);
+  c.axis = tidy(c.axis);
+  c.equator = tidy(equator_for(c.axis));
   return c;
 }
 
@@ -560,8 +567,8 @@ Expected<DiskParams> fit_disk(std::span<const Float3> input, const FitOptions& o
   const Circle circle = min_enclosing_circle(f.hull, f.projected);
   DiskParams d;
   d.center = f.origin + f.basis.e1 * circle.x + f.basis.e2 * circle.y;
-  d.normal = f.normal;
-  d.equator = f.basis.e1;  // = equator_for(normal)
+  d.normal = tidy(f.normal);
+  d.equator = tidy(f.basis.e1);  // = equator_for(normal)
   d.radius = circle.radius;
   return d;
 }
