@@ -100,6 +100,7 @@ constexpr double kQuadPlanarity = 1e-6;
 constexpr double kQuadMinTurn = 1e-9;
 
 Expected<Proxy> make(const QuadParams& p, const Validator& check) {
+  static constexpr const char* kCornerNames[] = {"p00", "p10", "p11", "p01"};
   const std::string corners = check.name("corners");
   for (const Vec3& c : p.corners) {
     if (!is_finite(c)) return check.fail(corners + " contain a non-finite coordinate");
@@ -107,33 +108,34 @@ Expected<Proxy> make(const QuadParams& p, const Validator& check) {
   const auto& q = p.corners;  // p00, p10, p11, p01: a cycle around the quad
   const double size = std::max(length(q[2] - q[0]), length(q[3] - q[1]));
   if (!(size > 0)) return check.fail(corners + " are all the same point");
-  // The diagonals' cross product is the quad's area vector (Newell), valid
-  // for any cyclic order, so convexity is judged against it.
-  const Vec3 area = cross(q[2] - q[0], q[3] - q[1]);
-  if (length(area) <= kQuadMinTurn * size * size) {
-    return check.fail(corners + " are degenerate (zero area)");
-  }
-  const Vec3 n = normalize(area);
-  const Vec3 centroid = (q[0] + q[1] + q[2] + q[3]) / 4;
+  // The turn at each corner, (incoming edge) x (outgoing edge). The largest
+  // one gives the reference plane: the three corners around it.
+  Vec3 turn[4];
+  int k = 0;
   for (int i = 0; i < 4; ++i) {
-    const double off_plane = std::abs(dot(q[i] - centroid, n));
-    if (off_plane > kQuadPlanarity * size) {
-      return check.fail(corners + " are not planar (corner " + std::to_string(i) + " lies " +
-                        number_text(off_plane) +
-                        " off the quad's plane, more than 1e-6 of its diagonal)");
+    turn[i] = cross(q[i] - q[(i + 3) % 4], q[(i + 1) % 4] - q[i]);
+    if (length(turn[i]) > length(turn[k])) k = i;
+  }
+  const double min_turn = kQuadMinTurn * size * size;
+  if (length(turn[k]) <= min_turn) return check.fail(corners + " are degenerate (all on a line)");
+  const Vec3 n = normalize(turn[k]);
+  const double off_plane = std::abs(dot(q[(k + 2) % 4] - q[k], n));
+  if (off_plane > kQuadPlanarity * size) {
+    return check.fail(corners + " are not planar (" + kCornerNames[(k + 2) % 4] + " lies " +
+                      number_text(off_plane) +
+                      " off the plane of the other three, more than 1e-6 of the diagonal)");
+  }
+  // Convex (and not a bow-tie) iff every corner turns the same way, by more
+  // than rounding noise.
+  for (int i = 0; i < 4; ++i) {
+    if (dot(turn[i], n) <= min_turn) {
+      return check.fail(corners + " are not convex at " + kCornerNames[i] +
+                        " (expected a convex quad with corners p00, p10, p11, p01 in order "
+                        "around it)");
     }
   }
-  for (int i = 0; i < 4; ++i) {
-    const Vec3 in = q[i] - q[(i + 3) % 4];
-    const Vec3 out = q[(i + 1) % 4] - q[i];
-    if (dot(cross(in, out), n) <= kQuadMinTurn * size * size) {
-      return check.fail(corners + " are not convex (corner " + std::to_string(i) +
-                        "; expected p00, p10, p11, p01 in order around the quad)");
-    }
-  }
-  // SPEC section 2 defines d from the two edges at p00; for a convex planar
-  // quad it has the direction of n.
-  return Proxy{Quad{q, normalize(cross(q[1] - q[0], q[3] - q[0]))}};
+  // SPEC section 2: d = normalize((p10 - p00) x (p01 - p00)) = turn[0].
+  return Proxy{Quad{q, normalize(turn[0])}};
 }
 
 Expected<Proxy> make(const PlaneParams& p, const Validator& check) {

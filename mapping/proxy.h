@@ -147,7 +147,7 @@ enum class ParamNaming { kKey, kFlag };
 // convex"). Rejected: non-finite values, zero vectors, an equator parallel to
 // the pole/axis/normal, radius or height <= 0, parallel plane axes, and quads
 // that are not planar (a corner off the plane of the other three by more than
-// 1e-6 of the longer diagonal), not convex, or degenerate.
+// 1e-6 of the longer diagonal), not convex (including bow-ties), or degenerate.
 Expected<Proxy> make_proxy(const ProxyParams& params, ParamNaming naming = ParamNaming::kKey);
 
 // The parameters that rebuild `proxy` (equator filled in, pole/axis/normal and

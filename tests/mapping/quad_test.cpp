@@ -110,6 +110,7 @@ TEST(Quad, BowTieAndNonConvexAreRejected) {
   EXPECT_EQ(bow.error().code, ErrorCode::kInvalidArgument);
   EXPECT_NE(bow.error().message.find("corners"), std::string::npos) << bow.error().message;
   EXPECT_NE(bow.error().message.find("quad"), std::string::npos) << bow.error().message;
+  EXPECT_NE(bow.error().message.find("not convex"), std::string::npos) << bow.error().message;
   // A dart: p11 pushed inside the triangle of the other three.
   Expected<Proxy> dart = make_proxy(QuadParams{{{{0, 0, 0}, {2, 0, 0}, {0.5, 0.5, 0}, {0, 2, 0}}}});
   ASSERT_FALSE(dart.has_value());
@@ -128,12 +129,15 @@ TEST(Quad, NonPlanarBeyond1e6OfItsSizeIsRejected) {
   Expected<Proxy> bent = make_proxy(QuadParams{{{{0, 0, 0}, {1, 0, 0}, {1, 1, 0.01}, {0, 1, 0}}}});
   ASSERT_FALSE(bent.has_value());
   EXPECT_NE(bent.error().message.find("not planar"), std::string::npos) << bent.error().message;
-  // Lifted 1e-8: each corner is 2.5e-9 off the mean plane, well within 1.4e-6.
+  // Lifted 1e-8: 1e-8 off the plane of the other three, within 1e-6 * sqrt(2).
   EXPECT_TRUE(make_proxy(QuadParams{{{{0, 0, 0}, {1, 0, 0}, {1, 1, 1e-8}, {0, 1, 0}}}}));
   // The tolerance scales with size: the same shape 1000 times larger.
   EXPECT_TRUE(
       make_proxy(QuadParams{{{{0, 0, 0}, {1000, 0, 0}, {1000, 1000, 1e-5}, {0, 1000, 0}}}}));
   EXPECT_FALSE(make_proxy(QuadParams{{{{0, 0, 0}, {1, 0, 0}, {1, 1, 1e-5}, {0, 1, 0}}}}));
+  // Just either side of the bound: 1.4e-6 passes, 1.42e-6 (> 1e-6 sqrt 2) fails.
+  EXPECT_TRUE(make_proxy(QuadParams{{{{0, 0, 0}, {1, 0, 0}, {1, 1, 1.40e-6}, {0, 1, 0}}}}));
+  EXPECT_FALSE(make_proxy(QuadParams{{{{0, 0, 0}, {1, 0, 0}, {1, 1, 1.42e-6}, {0, 1, 0}}}}));
 }
 
 }  // namespace
