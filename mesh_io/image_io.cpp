@@ -41,7 +41,11 @@ Expected<Image> read_image(const fs::path& path) {
   if (fs::is_regular_file(st) && fs::file_size(path, ec) == 0) {
     return image_error(ErrorCode::kParse, path, "the file is empty (0 bytes)");
   }
-  auto in = OIIO::ImageInput::open(path.string());
+  // Keep the stored values (SPEC section 1): without this OIIO premultiplies
+  // colour by alpha when it reads PNG, GIF and other unassociated formats.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path.string(), &config);
   if (!in) {
     return image_error(ErrorCode::kParse, path,
                        "cannot read as an image: " + first_line(OIIO::geterror()));
@@ -156,7 +160,11 @@ Status write_image(const fs::path& path, const ImageView& image, const ImageWrit
                           : depth == ImageBitDepth::k16 ? OIIO::TypeDesc::UINT16
                                                         : OIIO::TypeDesc::FLOAT;
     OIIO::ImageSpec spec(image.width, image.height, channels, type);
-    if (channels == 4) spec.alpha_channel = 3;
+    if (channels == 4) {
+      spec.alpha_channel = 3;
+      // Our values are unassociated (straight) alpha: stop OIIO dividing by it.
+      spec.attribute("oiio:UnassociatedAlpha", 1);
+    }
     if (!out->open(temp.string(), spec)) {
       return make_error(ErrorCode::kIo,
                         "cannot write " + path.string() + ": " + first_line(out->geterror()));

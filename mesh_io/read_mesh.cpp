@@ -950,18 +950,18 @@ VTarget vertex_target(const std::string& n) {
   return VTarget::kNone;
 }
 
-// Integer colours are scaled by their type's maximum (uchar 255, ushort 65535).
-float colour_scale(PlyType t) {
+// Integer colours are divided by their type's maximum (uchar 255, ushort 65535).
+float colour_divisor(PlyType t) {
   switch (t) {
     case PlyType::kUInt8:
     case PlyType::kInt8:
-      return 1.f / 255.f;
+      return 255.f;
     case PlyType::kUInt16:
     case PlyType::kInt16:
-      return 1.f / 65535.f;
+      return 65535.f;
     case PlyType::kUInt32:
     case PlyType::kInt32:
-      return 1.f / 4294967295.f;
+      return 4294967295.f;
     default:
       return 1.f;
   }
@@ -998,7 +998,7 @@ VertexLayout vertex_layout(const PlyElement& e) {
 // The vertex values of one vertex, filled property by property.
 struct VertexValues {
   float p[3] = {0, 0, 0}, n[3] = {0, 0, 0}, c[4] = {0, 0, 0, 1}, uv[2] = {0, 0};
-  void set(VTarget t, double value, float cscale) {
+  void set(VTarget t, double value, float cdiv) {
     switch (t) {
       case VTarget::kX:
         p[0] = static_cast<float>(value);
@@ -1019,16 +1019,16 @@ struct VertexValues {
         n[2] = static_cast<float>(value);
         break;
       case VTarget::kR:
-        c[0] = static_cast<float>(value * cscale);
+        c[0] = static_cast<float>(value) / cdiv;
         break;
       case VTarget::kG:
-        c[1] = static_cast<float>(value * cscale);
+        c[1] = static_cast<float>(value) / cdiv;
         break;
       case VTarget::kB:
-        c[2] = static_cast<float>(value * cscale);
+        c[2] = static_cast<float>(value) / cdiv;
         break;
       case VTarget::kA:
-        c[3] = static_cast<float>(value * cscale);
+        c[3] = static_cast<float>(value) / cdiv;
         break;
       case VTarget::kU:
         uv[0] = static_cast<float>(value);
@@ -1085,7 +1085,7 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
     }
     std::vector<float> cscale(e.properties.size());
     for (std::size_t k = 0; k < e.properties.size(); ++k)
-      cscale[k] = colour_scale(e.properties[k].type);
+      cscale[k] = colour_divisor(e.properties[k].type);
     for (std::size_t i = 0; i < e.count; ++i) {
       VertexValues v;
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
@@ -1180,7 +1180,7 @@ Status read_ply_ascii(PlyReadState& s, std::string_view bytes) {
     const bool is_face = &e == s.face_element;
     std::vector<float> cscale(e.properties.size());
     for (std::size_t k = 0; k < e.properties.size(); ++k)
-      cscale[k] = colour_scale(e.properties[k].type);
+      cscale[k] = colour_divisor(e.properties[k].type);
     for (std::size_t i = 0; i < e.count; ++i) {
       VertexValues v;
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
