@@ -8,7 +8,10 @@
 #include "bake/uv_generate.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <queue>
@@ -31,7 +34,9 @@ struct Vec2 {
   double x = 0, y = 0;
 };
 
-double cross2(Vec2 a, Vec2 b, Vec2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
+double cross2(Vec2 a, Vec2 b, Vec2 c) {
+  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+}
 
 // ---------------------------------------------------------------------------
 // Mesh geometry and adjacency.
@@ -155,6 +160,41 @@ std::vector<uint32_t> grow_charts(const Geometry& g, double cos_max, uint32_t& c
   return chart;
 }
 
+// Region growing on a scanned surface leaves saw-toothed chart borders (a
+// triangle whose normal is off by noise joins the neighbour chart), and every
+// tooth costs gutter texels. A triangle with two or three neighbours in one
+// other chart moves there when its normal stays within `cos_max` of that
+// chart's mean normal. Sequential passes in triangle order (deterministic).
+void smooth_chart_borders(const Geometry& g, std::vector<uint32_t>& chart, uint32_t chart_count,
+                          double cos_max, int passes) {
+  const std::size_t n = chart.size();
+  std::vector<Vec3> mean(chart_count);
+  for (std::size_t t = 0; t < n; ++t) mean[chart[t]] += g.normal[t] * g.area[t];
+  for (Vec3& m : mean) m = length(m) > 0 ? normalize(m) : m;
+  for (int pass = 0; pass < passes; ++pass) {
+    std::size_t moved = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+      uint32_t nb[3];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t a = g.adj[3 * t + k];
+        nb[k] = a == kNone ? kNone : chart[a / 3];
+      }
+      uint32_t target = kNone;
+      if (nb[0] != kNone && nb[0] == nb[1])
+        target = nb[0];
+      else if (nb[0] != kNone && nb[0] == nb[2])
+        target = nb[0];
+      else if (nb[1] != kNone && nb[1] == nb[2])
+        target = nb[1];
+      if (target == kNone || target == chart[t]) continue;
+      if (dot(g.normal[t], mean[target]) < cos_max) continue;
+      chart[t] = target;
+      ++moved;
+    }
+    if (moved == 0) break;
+  }
+}
+
 // Merges charts smaller than min_area into the neighbouring chart with which
 // they share the longest border (lengths summed in 3D), smallest charts first.
 void merge_small_charts(const Geometry& g, std::vector<uint32_t>& chart, uint32_t& chart_count,
@@ -187,7 +227,10 @@ void merge_small_charts(const Geometry& g, std::vector<uint32_t>& chart, uint32_
         if (d == c) continue;
         const double len = length(g.pos[tris[t][k]] - g.pos[tris[t][(k + 1) % 3]]);
         auto it = std::find_if(shared.begin(), shared.end(), [&](auto& s) { return s.first == d; });
-        if (it == shared.end()) shared.push_back({d, len}); else it->second += len;
+        if (it == shared.end())
+          shared.push_back({d, len});
+        else
+          it->second += len;
       }
     }
     if (shared.empty()) continue;
@@ -234,10 +277,14 @@ struct Scratch {
   std::vector<uint32_t> local;   // per corner root: local vertex index
 };
 
+static void dbg_fail(int why, std::size_t n) {
+  if (std::getenv("TEXBAKE_UV_DEBUG") && n > 100)
+    std::fprintf(stderr, "  fail %d on %zu tris\n", why, n);
+}
+
 class ChartCutter {
  public:
-  ChartCutter(const Geometry& g, const std::vector<uint32_t>& chart, Scratch& s,
-              double max_stretch)
+  ChartCutter(const Geometry& g, const std::vector<uint32_t>& chart, Scratch& s, double max_stretch)
       : g_(g), chart_(chart), s_(s), max_stretch_(max_stretch) {}
 
   // Flattens all triangles of chart c (given as `tris`) into one or more
@@ -294,15 +341,24 @@ class ChartCutter {
   }
 
   // Welds the corners of a connected piece into local vertices.
-  FlatChart weld(const std::vector<uint32_t>& tris, std::vector<std::pair<uint32_t, uint32_t>>& border) {
+  // Edges listed in `cuts` (sorted corner-edge ids 3t+k, both sides) are not
+  // welded: they become border.
+  bool interior(uint32_t ce, const std::vector<uint32_t>& cuts) const {
+    const uint32_t a = g_.adj[ce];
+    return a != kNone && in_piece(a / 3) && !std::binary_search(cuts.begin(), cuts.end(), ce);
+  }
+
+  FlatChart weld(const std::vector<uint32_t>& tris,
+                 std::vector<std::pair<uint32_t, uint32_t>>& border,
+                 const std::vector<uint32_t>& cuts) {
     mark(tris);
     for (uint32_t t : tris) {
       for (int k = 0; k < 3; ++k) s_.parent[3 * t + k] = 3 * t + k;
     }
     for (uint32_t t : tris) {
       for (int k = 0; k < 3; ++k) {
+        if (!interior(3 * t + k, cuts)) continue;
         const uint32_t a = g_.adj[3 * t + k];
-        if (a == kNone || !in_piece(a / 3)) continue;
         const uint32_t t2 = a / 3, k2 = a % 3;
         auto unite = [&](uint32_t x, uint32_t y) {
           x = find(x);
@@ -332,8 +388,9 @@ class ChartCutter {
     border.clear();
     for (std::size_t i = 0; i < tris.size(); ++i) {
       for (int k = 0; k < 3; ++k) {
-        const uint32_t a = g_.adj[3 * tris[i] + k];
-        if (a == kNone || !in_piece(a / 3)) border.push_back({fc.corner[i][k], fc.corner[i][(k + 1) % 3]});
+        if (!interior(3 * tris[i] + k, cuts)) {
+          border.push_back({fc.corner[i][k], fc.corner[i][(k + 1) % 3]});
+        }
       }
     }
     return fc;
@@ -341,7 +398,20 @@ class ChartCutter {
 
   void flatten_or_split(std::vector<uint32_t> tris, std::vector<FlatChart>& out) {
     std::vector<std::pair<uint32_t, uint32_t>> border;
-    FlatChart fc = weld(tris, border);
+    std::vector<uint32_t> cuts;
+    FlatChart fc = weld(tris, border, cuts);
+    // A chart with holes (genus 0, several border loops) becomes a disk by
+    // cutting along shortest paths between its loops; other non-disks are split.
+    for (int i = 0; i < 16; ++i) {
+      std::vector<uint32_t> loop;
+      const int loops = border_loops(fc, border, loop);
+      const long edges =
+          (3 * static_cast<long>(tris.size()) + static_cast<long>(border.size())) / 2;
+      const long euler = static_cast<long>(fc.uv.size()) - edges + static_cast<long>(tris.size());
+      if (loops <= 1 || euler != 2 - loops || !cut_between_loops(fc, tris, border, loop, cuts))
+        break;
+      fc = weld(tris, border, cuts);
+    }
     if (tris.size() == 1) {
       flatten_single(fc);
       out.push_back(std::move(fc));
@@ -354,6 +424,101 @@ class ChartCutter {
     auto [a, b] = split(tris);
     process(std::move(a), out);
     process(std::move(b), out);
+  }
+
+  // Labels border vertices with their loop (kNone inside); returns the loop
+  // count, or -1 when a vertex starts two border edges (not a manifold disk).
+  static int border_loops(const FlatChart& fc,
+                          const std::vector<std::pair<uint32_t, uint32_t>>& border,
+                          std::vector<uint32_t>& loop) {
+    std::vector<uint32_t> next(fc.uv.size(), kNone);
+    for (const auto& [a, b] : border) {
+      if (next[a] != kNone) return -1;
+      next[a] = b;
+    }
+    loop.assign(fc.uv.size(), kNone);
+    int loops = 0;
+    for (const auto& e : border) {
+      if (loop[e.first] != kNone) continue;
+      for (uint32_t v = e.first; v != kNone && loop[v] == kNone; v = next[v]) loop[v] = loops;
+      ++loops;
+    }
+    return loops;
+  }
+
+  // Adds to `cuts` the interior edges of a shortest path (3D length,
+  // Dijkstra) from the longest border loop to any other loop, which merges
+  // the two loops. Returns false if no path exists.
+  bool cut_between_loops(const FlatChart& fc, const std::vector<uint32_t>& tris,
+                         const std::vector<std::pair<uint32_t, uint32_t>>& border,
+                         const std::vector<uint32_t>& loop, std::vector<uint32_t>& cuts) {
+    const std::size_t nv = fc.uv.size();
+    std::vector<uint32_t> loop_size;
+    for (uint32_t l : loop) {
+      if (l == kNone) continue;
+      if (l >= loop_size.size()) loop_size.resize(l + 1, 0);
+      ++loop_size[l];
+    }
+    const uint32_t outer = static_cast<uint32_t>(
+        std::max_element(loop_size.begin(), loop_size.end()) - loop_size.begin());
+    // Interior edges as a CSR graph over local vertices: (neighbour, corner-edge).
+    std::vector<uint32_t> offset(nv + 1, 0);
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        if (interior(3 * tris[i] + k, cuts)) ++offset[fc.corner[i][k] + 1];
+      }
+    }
+    for (std::size_t v = 0; v < nv; ++v) offset[v + 1] += offset[v];
+    std::vector<std::pair<uint32_t, uint32_t>> links(offset[nv]);
+    {
+      std::vector<uint32_t> fill(offset.begin(), offset.end() - 1);
+      for (std::size_t i = 0; i < tris.size(); ++i) {
+        for (int k = 0; k < 3; ++k) {
+          if (!interior(3 * tris[i] + k, cuts)) continue;
+          links[fill[fc.corner[i][k]]++] = {fc.corner[i][(k + 1) % 3], 3 * tris[i] + k};
+        }
+      }
+    }
+    std::vector<double> dist(nv, std::numeric_limits<double>::infinity());
+    std::vector<uint32_t> via(nv, kNone);  // corner-edge reaching the vertex
+    using Item = std::pair<double, uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+    for (uint32_t v = 0; v < nv; ++v) {
+      if (loop[v] == outer) {
+        dist[v] = 0;
+        queue.push({0.0, v});
+      }
+    }
+    const auto& tv = *g_.tris;
+    while (!queue.empty()) {
+      const auto [d, v] = queue.top();
+      queue.pop();
+      if (d > dist[v]) continue;
+      if (loop[v] != kNone && loop[v] != outer) {
+        for (uint32_t u = v; via[u] != kNone;) {
+          const uint32_t ce = via[u];
+          cuts.push_back(ce);
+          cuts.push_back(g_.adj[ce]);
+          // Step back to the edge's start vertex.
+          const uint32_t i = static_cast<uint32_t>(
+              std::lower_bound(tris.begin(), tris.end(), ce / 3) - tris.begin());
+          u = fc.corner[i][ce % 3];
+        }
+        std::sort(cuts.begin(), cuts.end());
+        return true;
+      }
+      for (uint32_t j = offset[v]; j < offset[v + 1]; ++j) {
+        const auto [w, ce] = links[j];
+        const auto& t = tv[ce / 3];
+        const double nd = d + length(g_.pos[t[ce % 3]] - g_.pos[t[(ce % 3 + 1) % 3]]);
+        if (nd < dist[w]) {
+          dist[w] = nd;
+          via[w] = ce;
+          queue.push({nd, w});
+        }
+      }
+    }
+    return false;
   }
 
   void flatten_single(FlatChart& fc) {
@@ -414,7 +579,15 @@ class ChartCutter {
     cm.fixed1 = use_u ? umax : vmax;
     if (cm.fixed0 == cm.fixed1) return false;
     std::vector<double> uv;
-    if (uv_detail::flatten_lscm(cm, uv) != FlattenStatus::kOk) return false;
+    const auto t0 = std::chrono::steady_clock::now();
+    const FlattenStatus fs = uv_detail::flatten_lscm(cm, uv);
+    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (std::getenv("TEXBAKE_UV_DEBUG") && fc.tris.size() > 20000)
+      std::fprintf(stderr, "  lscm %zu tris %.3f s status %d\n", fc.tris.size(), dt, int(fs));
+    if (fs != FlattenStatus::kOk) {
+      dbg_fail(fs == FlattenStatus::kNotDisk ? 5 : 6, fc.tris.size());
+      return false;
+    }
     for (uint32_t l = 0; l < nloc; ++l) fc.uv[l] = {uv[2 * l], uv[2 * l + 1]};
     return true;
   }
@@ -425,7 +598,10 @@ class ChartCutter {
     double uv_area = 0;
     for (const auto& c : fc.corner) {
       const double a = 0.5 * cross2(fc.uv[c[0]], fc.uv[c[1]], fc.uv[c[2]]);
-      if (!(a > 0)) return false;
+      if (!(a > 0)) {
+        dbg_fail(1, fc.tris.size());
+        return false;
+      }
       uv_area += a;
     }
     const double scale = std::sqrt(fc.area3d / uv_area);
@@ -438,12 +614,22 @@ class ChartCutter {
     for (std::size_t i = 0; i < fc.tris.size(); ++i) {
       const auto& c = fc.corner[i];
       const double a = 0.5 * cross2(fc.uv[c[0]], fc.uv[c[1]], fc.uv[c[2]]);
-      if (a < 1e-6 * g_.area[fc.tris[i]]) return false;
+      if (a < 1e-6 * g_.area[fc.tris[i]]) {
+        dbg_fail(2, fc.tris.size());
+        return false;
+      }
       stretch_sum += triangle_l2_squared(tris[fc.tris[i]], fc.uv[c[0]], fc.uv[c[1]], fc.uv[c[2]]) *
                      g_.area[fc.tris[i]];
     }
-    if (std::sqrt(stretch_sum / fc.area3d) > max_stretch_) return false;
-    return !border_crosses_itself(fc, border);
+    if (std::sqrt(stretch_sum / fc.area3d) > max_stretch_) {
+      dbg_fail(3, fc.tris.size());
+      return false;
+    }
+    if (border_crosses_itself(fc, border)) {
+      dbg_fail(4, fc.tris.size());
+      return false;
+    }
+    return true;
   }
 
  public:
@@ -493,8 +679,10 @@ class ChartCutter {
     std::vector<std::vector<uint32_t>> grid(static_cast<std::size_t>(cells) * cells);
     for (uint32_t i = 0; i < m; ++i) {
       const Vec2 a = fc.uv[border[i].first], b = fc.uv[border[i].second];
-      const int cx0 = cell_of(std::min(a.x, b.x), x0, cw), cx1 = cell_of(std::max(a.x, b.x), x0, cw);
-      const int cy0 = cell_of(std::min(a.y, b.y), y0, ch), cy1 = cell_of(std::max(a.y, b.y), y0, ch);
+      const int cx0 = cell_of(std::min(a.x, b.x), x0, cw),
+                cx1 = cell_of(std::max(a.x, b.x), x0, cw);
+      const int cy0 = cell_of(std::min(a.y, b.y), y0, ch),
+                cy1 = cell_of(std::max(a.y, b.y), y0, ch);
       for (int y = cy0; y <= cy1; ++y) {
         for (int x = cx0; x <= cx1; ++x) grid[static_cast<std::size_t>(y) * cells + x].push_back(i);
       }
@@ -536,7 +724,8 @@ class ChartCutter {
     });
     std::size_t cut = 1;
     double acc = g_.area[tris[0]];
-    while (cut + 1 < tris.size() && acc + g_.area[tris[cut]] <= 0.5 * total) acc += g_.area[tris[cut++]];
+    while (cut + 1 < tris.size() && acc + g_.area[tris[cut]] <= 0.5 * total)
+      acc += g_.area[tris[cut++]];
     std::vector<uint32_t> a(tris.begin(), tris.begin() + cut), b(tris.begin() + cut, tris.end());
     std::sort(a.begin(), a.end());
     std::sort(b.begin(), b.end());
@@ -556,7 +745,8 @@ class ChartCutter {
 // lower-left corner at the origin.
 void orient_chart(FlatChart& fc) {
   std::vector<Vec2> pts = fc.uv;
-  std::sort(pts.begin(), pts.end(), [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  std::sort(pts.begin(), pts.end(),
+            [](Vec2 a, Vec2 b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
   std::vector<Vec2> hull(2 * pts.size());
   std::size_t k = 0;
   for (std::size_t i = 0; i < pts.size(); ++i) {  // Andrew's monotone chain
@@ -647,9 +837,11 @@ ChartRaster rasterize_chart(const FlatChart& fc, double scale) {
     const Vec2 b{fc.uv[c[1]].x * scale + 0.5, fc.uv[c[1]].y * scale + 0.5};
     const Vec2 d{fc.uv[c[2]].x * scale + 0.5, fc.uv[c[2]].y * scale + 0.5};
     const int i0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, d.x}) - kCoverEps)));
-    const int i1 = std::min(r.w - 1, static_cast<int>(std::floor(std::max({a.x, b.x, d.x}) + kCoverEps)));
+    const int i1 =
+        std::min(r.w - 1, static_cast<int>(std::floor(std::max({a.x, b.x, d.x}) + kCoverEps)));
     const int j0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, d.y}) - kCoverEps)));
-    const int j1 = std::min(r.h - 1, static_cast<int>(std::floor(std::max({a.y, b.y, d.y}) + kCoverEps)));
+    const int j1 =
+        std::min(r.h - 1, static_cast<int>(std::floor(std::max({a.y, b.y, d.y}) + kCoverEps)));
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
         uint8_t& bit = r.bits[static_cast<std::size_t>(j) * r.w + i];
@@ -708,9 +900,10 @@ Profile profile(const ChartRaster& r, int rot) {
       p.top[c] = r.w - 1 - row_lo[c];
     }
   }
-  // A connected chart covers every column of its box; guard anyway.
+  // A connected chart covers every column of its box; should one not, treat
+  // that column as fully covered (safe: it only reserves more space).
   for (int c = 0; c < p.w; ++c) {
-    if (p.top[c] < p.bottom[c]) p.bottom[c] = p.h, p.top[c] = -1;
+    if (p.top[c] < p.bottom[c]) p.bottom[c] = 0, p.top[c] = p.h - 1;
   }
   return p;
 }
@@ -719,22 +912,68 @@ struct Placement {
   int x = 0, y = 0, rot = 0;
 };
 
-// Skyline ("Tetris") packing of rasterised charts: each chart, largest first,
-// goes where its bottom profile rests on the skyline with the least area
-// wasted below it (ties: lower, then further left, then fewer turns). The
-// skyline holds placed charts dilated by `padding`, so covered texels of two
-// charts are more than `padding` texels apart. Returns false when a chart
-// does not fit.
+// Occupied texels of the atlas, per column, as sorted disjoint closed row
+// intervals [first, last]. Placed charts enter dilated by the padding.
+class ColumnIntervals {
+ public:
+  explicit ColumnIntervals(int size) : cols_(size) {}
+
+  // Smallest row r >= y such that [r, r + (last - first)] meets no interval
+  // of column x, given the span starts at `first` ... relative form: returns
+  // the lowest start row >= y of a free span of `len` rows in column x.
+  int lowest_free(int x, int y, int len) const {
+    const auto& col = cols_[x];
+    // First interval ending at or above y (ends are sorted: intervals are disjoint).
+    auto it =
+        std::lower_bound(col.begin(), col.end(), y,
+                         [](const std::pair<int, int>& s, int row) { return s.second < row; });
+    for (; it != col.end(); ++it) {
+      if (it->first > y + len - 1) return y;
+      y = it->second + 1;
+    }
+    return y;
+  }
+
+  void insert(int x, int a, int b) {
+    auto& col = cols_[x];
+    auto it = std::lower_bound(col.begin(), col.end(), std::pair<int, int>{a, b});
+    it = col.insert(it, {a, b});
+    // Merge with neighbours that overlap or touch.
+    if (it != col.begin() && std::prev(it)->second >= a - 1) {
+      --it;
+      it->second = std::max(it->second, b);
+      col.erase(std::next(it));
+    }
+    while (std::next(it) != col.end() && std::next(it)->first <= it->second + 1) {
+      it->second = std::max(it->second, std::next(it)->second);
+      col.erase(std::next(it));
+    }
+  }
+
+ private:
+  std::vector<std::vector<std::pair<int, int>>> cols_;
+};
+
+// Bottom-left-fill packing of rasterised charts, largest first: each chart
+// takes, over four quarter turns and every column, the lowest position where
+// each of its columns' covered span [bottom, top] fits between the occupied
+// spans of the atlas column below it (a chart's column is treated as covered
+// from its lowest to its highest texel). Holes left under earlier charts are
+// thus filled by later ones, unlike a skyline packer. Occupied spans are the
+// placed charts dilated by `padding` (in the Chebyshev metric), so covered
+// texels of two charts are more than `padding` texels apart. Ties: lower top
+// edge, then further left, then fewer turns. Returns false when a chart does
+// not fit.
 bool pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& order, int size,
           int padding, std::vector<Placement>& placed) {
-  std::vector<int> sky(size, 0);
+  ColumnIntervals occupied(size);
   placed.assign(rasters.size(), {});
-  constexpr std::size_t kGrain = 256;
+  constexpr std::size_t kGrain = 128;
+  struct Best {
+    long score = std::numeric_limits<long>::max();
+    int x = 0, y = 0, rot = 0;
+  };
   for (uint32_t ci : order) {
-    struct Best {
-      double score = std::numeric_limits<double>::infinity();
-      int x = 0, y = 0, rot = 0;
-    };
     Best best;
     Profile profiles[4];
     for (int rot = 0; rot < 4; ++rot) {
@@ -742,43 +981,67 @@ bool pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& 
       const Profile& p = profiles[rot];
       if (p.w > size || p.h > size) continue;
       const std::size_t positions = static_cast<std::size_t>(size - p.w + 1);
+      // Fixed chunks of kGrain columns, one result slot each (parallel_for_chunks
+      // may split a range at any point, so chunks are indexed explicitly).
       std::vector<Best> chunk_best((positions + kGrain - 1) / kGrain);
-      parallel_for_chunks(positions, kGrain, [&](std::size_t b, std::size_t e) {
-        Best local;
-        for (std::size_t x = b; x < e; ++x) {
-          int y = 0;
-          const int* s = sky.data() + x;
-          for (int c = 0; c < p.w; ++c) y = std::max(y, s[c] - p.bottom[c]);
-          if (y + p.h > size) continue;
-          long waste = 0;
-          for (int c = 0; c < p.w; ++c) waste += y + p.bottom[c] - s[c];
-          const double score = static_cast<double>(waste) + 1e-3 * y;
-          if (score < local.score) local = {score, static_cast<int>(x), y, rot};
+      parallel_for_chunks(chunk_best.size(), 1, [&](std::size_t kb, std::size_t ke) {
+        for (std::size_t k = kb; k < ke; ++k) {
+          const std::size_t b = k * kGrain, e = std::min(positions, b + kGrain);
+          Best local = best;  // prune with what earlier rotations found (same for every chunk)
+          for (std::size_t x = b; x < e; ++x) {
+            // Raise y until every column's span is free, visiting columns
+            // cyclically from the last one that raised it; y only grows, so
+            // this ends after at most one raise per occupied span.
+            int y = 0;
+            bool fits = true;
+            for (int c = 0, clean = 0; clean < p.w; c = c + 1 == p.w ? 0 : c + 1) {
+              const int len = p.top[c] - p.bottom[c] + 1;
+              const int free = occupied.lowest_free(static_cast<int>(x) + c, y + p.bottom[c], len);
+              if (free == y + p.bottom[c]) {
+                ++clean;
+                continue;
+              }
+              y = free - p.bottom[c];
+              clean = 1;
+              if (y + p.h > size ||
+                  (static_cast<long>(y) + p.h) * size + static_cast<long>(x) >= local.score) {
+                fits = false;
+                break;
+              }
+            }
+            if (!fits) continue;
+            const long score = (static_cast<long>(y) + p.h) * size + static_cast<long>(x);
+            if (score < local.score) local = {score, static_cast<int>(x), y, rot};
+          }
+          chunk_best[k] = local;
         }
-        chunk_best[b / kGrain] = local;
       });
       for (const Best& cb : chunk_best) {
         if (cb.score < best.score) best = cb;
       }
     }
-    if (!std::isfinite(best.score)) return false;
+    if (best.score == std::numeric_limits<long>::max()) return false;
     placed[ci] = {best.x, best.y, best.rot};
     const Profile& p = profiles[best.rot];
     for (int c = -padding; c < p.w + padding; ++c) {
       const int x = best.x + c;
       if (x < 0 || x >= size) continue;
-      int top = -1;
+      int lo = std::numeric_limits<int>::max(), hi = -1;
       for (int d = std::max(0, c - padding); d <= std::min(p.w - 1, c + padding); ++d) {
-        top = std::max(top, p.top[d]);
+        if (p.top[d] < p.bottom[d]) continue;
+        lo = std::min(lo, p.bottom[d]);
+        hi = std::max(hi, p.top[d]);
       }
-      if (top >= 0) sky[x] = std::max(sky[x], best.y + top + padding + 1);
+      if (hi >= 0) occupied.insert(x, best.y + lo - padding, best.y + hi + padding);
     }
   }
   return true;
 }
 
 Status validate(const MeshData& mesh, const UvGenerateOptions& o) {
-  auto bad = [](std::string m) { return Status(make_error(ErrorCode::kInvalidArgument, std::move(m))); };
+  auto bad = [](std::string m) {
+    return Status(make_error(ErrorCode::kInvalidArgument, std::move(m)));
+  };
   if (o.atlas_size < 1 || o.atlas_size > kMaxAtlasSize) {
     return bad("atlas size " + std::to_string(o.atlas_size) + " is outside 1..16384");
   }
@@ -818,9 +1081,15 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   }
 
   // 1. Charts.
+  using Clock = std::chrono::steady_clock;
+  const auto t_start = Clock::now();
+  int packs = 0;
   uint32_t chart_count = 0;
   std::vector<uint32_t> chart =
       grow_charts(g, std::cos(options.max_chart_angle_deg * M_PI / 180.0), chart_count);
+  smooth_chart_borders(g, chart, chart_count,
+                       std::cos(std::min(89.0, options.max_chart_angle_deg + 15.0) * M_PI / 180.0),
+                       4);
   // Charts below ~1/2000 of the surface cost more gutter than they save stretch.
   merge_small_charts(g, chart, chart_count, total_area * 5e-4);
 
@@ -851,6 +1120,7 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   }
   pieces.clear();
 
+  const auto t_flat = Clock::now();
   // 3. Pack: bisection on the global scale (texels per unit length).
   const int size = options.atlas_size;
   const int padding = options.padding;
@@ -877,6 +1147,7 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
     parallel_for_chunks(charts.size(), 8, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) rasters[i] = rasterize_chart(charts[i], scale);
     });
+    ++packs;
     if (!pack(rasters, order, size, padding, placement)) return false;
     if (scale > best_scale) {
       best_scale = scale;
@@ -899,16 +1170,20 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
     if (lo > 0 && hi == 0 && scale * max_extent > size) hi = scale;
   }
   if (lo == 0) {
-    return make_error(ErrorCode::kUnsupported,
-                      "cannot pack " + std::to_string(charts.size()) + " charts into a " +
-                          std::to_string(size) + " texel atlas with a " + std::to_string(padding) +
-                          " texel gutter");
+    return make_error(ErrorCode::kUnsupported, "cannot pack " + std::to_string(charts.size()) +
+                                                   " charts into a " + std::to_string(size) +
+                                                   " texel atlas with a " +
+                                                   std::to_string(padding) + " texel gutter");
   }
   while (hi / lo > 1.01) {
     const double mid = std::sqrt(lo * hi);
-    if (try_scale(mid)) lo = mid; else hi = mid;
+    if (try_scale(mid))
+      lo = mid;
+    else
+      hi = mid;
   }
 
+  const auto t_pack = Clock::now();
   // 4. Output.
   UvAtlas atlas;
   atlas.atlas_size = size;
@@ -930,10 +1205,17 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
       const double x = p.x * best_scale + 0.5, y = p.y * best_scale + 0.5;
       double u = x, v = y;
       switch (pl.rot) {  // continuous versions of the rotations in profile()
-        case 1: u = r.h - y, v = x; break;
-        case 2: u = r.w - x, v = r.h - y; break;
-        case 3: u = y, v = r.w - x; break;
-        default: break;
+        case 1:
+          u = r.h - y, v = x;
+          break;
+        case 2:
+          u = r.w - x, v = r.h - y;
+          break;
+        case 3:
+          u = y, v = r.w - x;
+          break;
+        default:
+          break;
       }
       atlas.uvs.push_back({static_cast<float>(std::clamp((u + pl.x) * inv, 0.0, 1.0)),
                            static_cast<float>(std::clamp((v + pl.y) * inv, 0.0, 1.0))});
@@ -941,7 +1223,8 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
     for (std::size_t i = 0; i < fc.tris.size(); ++i) {
       const uint32_t t = fc.tris[i];
       atlas.triangle_chart[t] = static_cast<uint32_t>(ci);
-      atlas.triangle_uvs[t] = {base + fc.corner[i][0], base + fc.corner[i][1], base + fc.corner[i][2]};
+      atlas.triangle_uvs[t] = {base + fc.corner[i][0], base + fc.corner[i][1],
+                               base + fc.corner[i][2]};
     }
   }
   // Stretch on the final (float) UVs, as a consumer sees them.
@@ -957,6 +1240,54 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   }
   atlas.stretch_l2 = std::sqrt(stretch_sum / total_area) * std::sqrt(uv_area / total_area);
   atlas.utilisation = static_cast<double>(covered) / (static_cast<double>(size) * size);
+  if (std::getenv("TEXBAKE_UV_DEBUG")) {
+    std::size_t dil = 0, boxes = 0;
+    const int hp = padding / 2;
+    for (const ChartRaster& r : best_rasters) {
+      boxes += static_cast<std::size_t>(r.w + padding) * (r.h + padding);
+      for (int j = -hp; j < r.h + hp; ++j)
+        for (int i = -hp; i < r.w + hp; ++i) {
+          bool any = false;
+          for (int dj = -hp; dj <= hp && !any; ++dj)
+            for (int di = -hp; di <= hp && !any; ++di) {
+              const int x = i + di, y = j + dj;
+              if (x >= 0 && y >= 0 && x < r.w && y < r.h && r.bits[y * r.w + x]) any = true;
+            }
+          dil += any;
+        }
+    }
+    if (const char* path = std::getenv("TEXBAKE_UV_DUMP")) {
+      std::vector<uint8_t> img(static_cast<std::size_t>(size) * size * 3, 0);
+      for (std::size_t ci = 0; ci < charts.size(); ++ci) {
+        const ChartRaster& r = best_rasters[ci];
+        const Placement& pl = best_placement[ci];
+        const uint8_t col[3] = {uint8_t(60 + (ci * 97) % 196), uint8_t(60 + (ci * 57) % 196),
+                                uint8_t(60 + (ci * 31) % 196)};
+        for (int j = 0; j < r.h; ++j)
+          for (int i = 0; i < r.w; ++i) {
+            if (!r.bits[j * r.w + i]) continue;
+            int x = i, y = j;
+            if (pl.rot == 1) x = r.h - 1 - j, y = i;
+            if (pl.rot == 2) x = r.w - 1 - i, y = r.h - 1 - j;
+            if (pl.rot == 3) x = j, y = r.w - 1 - i;
+            x += pl.x;
+            y += pl.y;
+            uint8_t* px = &img[(static_cast<std::size_t>(size - 1 - y) * size + x) * 3];
+            for (int k = 0; k < 3; ++k) px[k] = col[k];
+          }
+      }
+      FILE* f = std::fopen(path, "wb");
+      std::fprintf(f, "P6 %d %d 255\n", size, size);
+      std::fwrite(img.data(), 1, img.size(), f);
+      std::fclose(f);
+    }
+    std::fprintf(stderr, "flatten %.3f s pack %.3f s (%d packs)\n",
+                 std::chrono::duration<double>(t_flat - t_start).count(),
+                 std::chrono::duration<double>(t_pack - t_flat).count(), packs);
+    std::fprintf(stderr, "charts %zu grown %u covered %.3f dilated(p/2) %.3f boxes %.3f scale %g\n",
+                 charts.size(), chart_count, covered / double(size) / size,
+                 dil / double(size) / size, boxes / double(size) / size, best_scale);
+  }
   return atlas;
 }
 
