@@ -8,10 +8,7 @@
 #include "bake/uv_generate.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <queue>
@@ -29,6 +26,7 @@ using uv_detail::FlattenStatus;
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 constexpr int kMaxAtlasSize = 16384;
+constexpr std::size_t kMaxSolveTriangles = 32768;
 
 struct Vec2 {
   double x = 0, y = 0;
@@ -277,11 +275,6 @@ struct Scratch {
   std::vector<uint32_t> local;   // per corner root: local vertex index
 };
 
-static void dbg_fail(int why, std::size_t n) {
-  if (std::getenv("TEXBAKE_UV_DEBUG") && n > 100)
-    std::fprintf(stderr, "  fail %d on %zu tris\n", why, n);
-}
-
 class ChartCutter {
  public:
   ChartCutter(const Geometry& g, const std::vector<uint32_t>& chart, Scratch& s, double max_stretch)
@@ -411,6 +404,14 @@ class ChartCutter {
       if (loops <= 1 || euler != 2 - loops || !cut_between_loops(fc, tris, border, loop, cuts))
         break;
       fc = weld(tris, border, cuts);
+    }
+    // The sparse solve grows faster than linearly with the chart and a failed
+    // check would waste it: very large charts are halved before solving.
+    if (tris.size() > kMaxSolveTriangles) {
+      auto [a, b] = split(tris);
+      process(std::move(a), out);
+      process(std::move(b), out);
+      return;
     }
     if (tris.size() == 1) {
       flatten_single(fc);
@@ -579,15 +580,7 @@ class ChartCutter {
     cm.fixed1 = use_u ? umax : vmax;
     if (cm.fixed0 == cm.fixed1) return false;
     std::vector<double> uv;
-    const auto t0 = std::chrono::steady_clock::now();
-    const FlattenStatus fs = uv_detail::flatten_lscm(cm, uv);
-    const double dt = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (std::getenv("TEXBAKE_UV_DEBUG") && fc.tris.size() > 20000)
-      std::fprintf(stderr, "  lscm %zu tris %.3f s status %d\n", fc.tris.size(), dt, int(fs));
-    if (fs != FlattenStatus::kOk) {
-      dbg_fail(fs == FlattenStatus::kNotDisk ? 5 : 6, fc.tris.size());
-      return false;
-    }
+    if (uv_detail::flatten_lscm(cm, uv) != FlattenStatus::kOk) return false;
     for (uint32_t l = 0; l < nloc; ++l) fc.uv[l] = {uv[2 * l], uv[2 * l + 1]};
     return true;
   }
@@ -598,10 +591,7 @@ class ChartCutter {
     double uv_area = 0;
     for (const auto& c : fc.corner) {
       const double a = 0.5 * cross2(fc.uv[c[0]], fc.uv[c[1]], fc.uv[c[2]]);
-      if (!(a > 0)) {
-        dbg_fail(1, fc.tris.size());
-        return false;
-      }
+      if (!(a > 0)) return false;
       uv_area += a;
     }
     const double scale = std::sqrt(fc.area3d / uv_area);
@@ -614,21 +604,12 @@ class ChartCutter {
     for (std::size_t i = 0; i < fc.tris.size(); ++i) {
       const auto& c = fc.corner[i];
       const double a = 0.5 * cross2(fc.uv[c[0]], fc.uv[c[1]], fc.uv[c[2]]);
-      if (a < 1e-6 * g_.area[fc.tris[i]]) {
-        dbg_fail(2, fc.tris.size());
-        return false;
-      }
+      if (a < 1e-6 * g_.area[fc.tris[i]]) return false;
       stretch_sum += triangle_l2_squared(tris[fc.tris[i]], fc.uv[c[0]], fc.uv[c[1]], fc.uv[c[2]]) *
                      g_.area[fc.tris[i]];
     }
-    if (std::sqrt(stretch_sum / fc.area3d) > max_stretch_) {
-      dbg_fail(3, fc.tris.size());
-      return false;
-    }
-    if (border_crosses_itself(fc, border)) {
-      dbg_fail(4, fc.tris.size());
-      return false;
-    }
+    if (std::sqrt(stretch_sum / fc.area3d) > max_stretch_) return false;
+    if (border_crosses_itself(fc, border)) return false;
     return true;
   }
 
@@ -1081,9 +1062,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   }
 
   // 1. Charts.
-  using Clock = std::chrono::steady_clock;
-  const auto t_start = Clock::now();
-  int packs = 0;
   uint32_t chart_count = 0;
   std::vector<uint32_t> chart =
       grow_charts(g, std::cos(options.max_chart_angle_deg * M_PI / 180.0), chart_count);
@@ -1120,7 +1098,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   }
   pieces.clear();
 
-  const auto t_flat = Clock::now();
   // 3. Pack: bisection on the global scale (texels per unit length).
   const int size = options.atlas_size;
   const int padding = options.padding;
@@ -1147,7 +1124,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
     parallel_for_chunks(charts.size(), 8, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) rasters[i] = rasterize_chart(charts[i], scale);
     });
-    ++packs;
     if (!pack(rasters, order, size, padding, placement)) return false;
     if (scale > best_scale) {
       best_scale = scale;
@@ -1183,7 +1159,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
       hi = mid;
   }
 
-  const auto t_pack = Clock::now();
   // 4. Output.
   UvAtlas atlas;
   atlas.atlas_size = size;
@@ -1240,54 +1215,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   }
   atlas.stretch_l2 = std::sqrt(stretch_sum / total_area) * std::sqrt(uv_area / total_area);
   atlas.utilisation = static_cast<double>(covered) / (static_cast<double>(size) * size);
-  if (std::getenv("TEXBAKE_UV_DEBUG")) {
-    std::size_t dil = 0, boxes = 0;
-    const int hp = padding / 2;
-    for (const ChartRaster& r : best_rasters) {
-      boxes += static_cast<std::size_t>(r.w + padding) * (r.h + padding);
-      for (int j = -hp; j < r.h + hp; ++j)
-        for (int i = -hp; i < r.w + hp; ++i) {
-          bool any = false;
-          for (int dj = -hp; dj <= hp && !any; ++dj)
-            for (int di = -hp; di <= hp && !any; ++di) {
-              const int x = i + di, y = j + dj;
-              if (x >= 0 && y >= 0 && x < r.w && y < r.h && r.bits[y * r.w + x]) any = true;
-            }
-          dil += any;
-        }
-    }
-    if (const char* path = std::getenv("TEXBAKE_UV_DUMP")) {
-      std::vector<uint8_t> img(static_cast<std::size_t>(size) * size * 3, 0);
-      for (std::size_t ci = 0; ci < charts.size(); ++ci) {
-        const ChartRaster& r = best_rasters[ci];
-        const Placement& pl = best_placement[ci];
-        const uint8_t col[3] = {uint8_t(60 + (ci * 97) % 196), uint8_t(60 + (ci * 57) % 196),
-                                uint8_t(60 + (ci * 31) % 196)};
-        for (int j = 0; j < r.h; ++j)
-          for (int i = 0; i < r.w; ++i) {
-            if (!r.bits[j * r.w + i]) continue;
-            int x = i, y = j;
-            if (pl.rot == 1) x = r.h - 1 - j, y = i;
-            if (pl.rot == 2) x = r.w - 1 - i, y = r.h - 1 - j;
-            if (pl.rot == 3) x = j, y = r.w - 1 - i;
-            x += pl.x;
-            y += pl.y;
-            uint8_t* px = &img[(static_cast<std::size_t>(size - 1 - y) * size + x) * 3];
-            for (int k = 0; k < 3; ++k) px[k] = col[k];
-          }
-      }
-      FILE* f = std::fopen(path, "wb");
-      std::fprintf(f, "P6 %d %d 255\n", size, size);
-      std::fwrite(img.data(), 1, img.size(), f);
-      std::fclose(f);
-    }
-    std::fprintf(stderr, "flatten %.3f s pack %.3f s (%d packs)\n",
-                 std::chrono::duration<double>(t_flat - t_start).count(),
-                 std::chrono::duration<double>(t_pack - t_flat).count(), packs);
-    std::fprintf(stderr, "charts %zu grown %u covered %.3f dilated(p/2) %.3f boxes %.3f scale %g\n",
-                 charts.size(), chart_count, covered / double(size) / size,
-                 dil / double(size) / size, boxes / double(size) / size, best_scale);
-  }
   return atlas;
 }
 

@@ -6,17 +6,19 @@
 //  1. Charts are grown over MeshData::triangles by normal-cone region growing:
 //     a chart only crosses edges shared by exactly two consistently oriented
 //     triangles, so non-manifold edges, non-manifold vertices and orientation
-//     flips are chart borders. Small charts are merged into a neighbour.
-//  2. Every chart is made a topological disk (split when it has holes or
-//     handles) and flattened with CGAL's least-squares conformal maps (LSCM,
-//     Levy et al. 2002). A chart whose map flips a triangle, whose border
-//     crosses itself, whose stretch exceeds max_chart_stretch or whose solve
-//     fails is split in two and retried (a single triangle always succeeds).
-//     Charts are then scaled so that UV area equals 3D area (uniform texel
-//     density) and rotated to their minimum-area bounding rectangle.
+//     flips are chart borders. Saw-toothed borders are smoothed and charts
+//     below 1/2000 of the surface are merged into a neighbour.
+//  2. Every chart is made a topological disk (holes are cut open along
+//     shortest paths between border loops; other non-disks are split;
+//     charts above 32768 triangles are halved to bound the solve) and flattened with CGAL's
+//     least-squares conformal maps (LSCM, Levy et al. 2002). A chart whose map flips a triangle,
+//     whose border crosses itself, whose stretch exceeds max_chart_stretch or whose solve fails is
+//     split in two and retried (a single triangle always succeeds). Charts are then scaled so that
+//     UV area equals 3D area (uniform texel density) and rotated to their minimum-area bounding
+//     rectangle.
 //  3. Charts are packed as rasterised shapes (conservative coverage at the
-//     atlas size) into the square with a skyline ("Tetris") packer trying four
-//     rotations, with at least `padding` empty texels between texels covered by
+//     atlas size) into the square by bottom-left fill over column spans,
+//     trying four quarter turns, with at least `padding` empty texels between texels covered by
 //     different charts. The global scale is the largest found by bisection
 //     for which everything fits.
 //
@@ -43,7 +45,7 @@ struct UvGenerateOptions {
   double max_chart_angle_deg = 70.0;
   // A chart whose own area-weighted L2 stretch (Sander et al. 2001, normalised
   // so that an isometry gives 1) exceeds this after flattening is split; >= 1.
-  double max_chart_stretch = 1.3;
+  double max_chart_stretch = 1.5;
 };
 
 struct UvAtlas {
