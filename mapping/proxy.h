@@ -61,7 +61,7 @@ struct QuadParams {
   std::array<Vec3, 4> corners;  // p00, p10, p11, p01 (u runs p00->p10, v p00->p01)
 };
 struct PlaneParams {
-  Vec3 origin;  // (u, v) = (0, 0)
+  Vec3 origin;           // (u, v) = (0, 0)
   Vec3 u_axis{1, 0, 0};  // (u, v) = (1, 0) at origin + u_axis
   Vec3 v_axis{0, 1, 0};
 };
@@ -79,8 +79,8 @@ enum class MapStatus {
 };
 
 struct MapResult {
-  UV uv;                 // may lie outside [0,1] when status == kOutside
-  Vec3 to_projector;     // d(P): unit vector from P towards the projector (SPEC section 2)
+  UV uv;              // may lie outside [0,1] when status == kOutside
+  Vec3 to_projector;  // d(P): unit vector from P towards the projector (SPEC section 2)
   MapStatus status = MapStatus::kOk;
 };
 
@@ -138,16 +138,28 @@ struct Plane {
 
 using Proxy = std::variant<Sphere, Cylinder, Cone, Disk, Quad, Plane>;
 
-// Validates and normalises (errors: kInvalidArgument, message names the
-// parameter, e.g. "pole is the zero vector", "quad is not convex").
-Expected<Proxy> make_proxy(const ProxyParams& params);
+// How error messages name a parameter: as its JSON key ("u_axis") or as its
+// command-line flag ("--u-axis").
+enum class ParamNaming { kKey, kFlag };
 
-// The parameters that rebuild `proxy` (equator filled in, vectors unit).
+// Validates and normalises (errors: kInvalidArgument, message names the
+// parameter, e.g. "sphere: pole is the zero vector", "quad: corners are not
+// convex"). Rejected: non-finite values, zero vectors, an equator parallel to
+// the pole/axis/normal, radius or height <= 0, parallel plane axes, and quads
+// that are not planar (a corner off the plane of the other three by more than
+// 1e-6 of the longer diagonal), not convex (including bow-ties), or degenerate.
+Expected<Proxy> make_proxy(const ProxyParams& params, ParamNaming naming = ParamNaming::kKey);
+
+// The parameters that rebuild `proxy` (equator filled in, pole/axis/normal and
+// equator unit; plane axes keep their length, which is the image's extent).
 ProxyParams params_of(const Proxy& proxy);
 
 ProxyKind kind_of(const Proxy& proxy);
+ProxyKind kind_of(const ProxyParams& params);
 WrapMode wrap_u(const Proxy& proxy);  // kRepeat for sphere, cylinder, cone, disk
-inline WrapMode wrap_v(const Proxy&) { return WrapMode::kClamp; }
+inline WrapMode wrap_v(const Proxy&) {
+  return WrapMode::kClamp;
+}
 
 // Dispatching conveniences. Hot loops should std::visit once per chunk and
 // call the concrete type's inverse_map directly.

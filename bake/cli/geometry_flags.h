@@ -1,0 +1,82 @@
+// The shared geometry flags of SPEC section 5, used by map, bake, fit and
+// render: --proxy KIND | --proxy-file F, --center --radius --pole --equator
+// --axis --apex --height --base --normal --corners --origin --u-axis --v-axis,
+// and --up x|y|z|-x|-y|-z (the default pole/axis/normal; default z).
+//
+// Values are checked while CLI11 parses: vectors "x,y,z", corners four
+// "x,y,z" separated by ';', numbers finite (no nan, inf, garbage or
+// overflow). A bad value is a CLI::ValidationError naming the flag (main maps
+// it to exit 2). Negative values need no '=': --up -z, --center -1,0,0.
+//
+// Contract of the combination (check_geometry_flags): --proxy and
+// --proxy-file exclude each other; with --proxy-file no geometry flag is
+// allowed (the file holds the whole proxy); with --proxy KIND only the flags
+// of KIND (flags_of_kind) are allowed.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mapping/error.h"
+#include "mapping/proxy.h"
+
+namespace texbake::cli {
+
+struct GeometryFlags {
+  std::optional<ProxyKind> kind;                    // --proxy
+  std::optional<std::filesystem::path> proxy_file;  // --proxy-file
+  std::optional<Vec3> center, pole, equator, axis, apex, base, normal, origin, u_axis, v_axis;
+  std::optional<double> radius, height;
+  std::optional<std::array<Vec3, 4>> corners;
+  std::optional<Vec3> up;  // --up as a unit vector (+-X, +-Y, +-Z)
+};
+
+// Parsers used by the flags, for other commands' own flags (e.g. map's
+// --point). They throw CLI::ValidationError naming `flag` on bad input:
+// call them inside a CLI11 option callback.
+Vec3 parse_vec3_flag(std::string_view text, const std::string& flag);
+double parse_number_flag(std::string_view text, const std::string& flag);
+
+// Registers all the flags above on `command`, writing into `flags` (which
+// must outlive parsing).
+void add_geometry_flags(CLI::App& command, GeometryFlags& flags);
+
+// --up, or +Z when not given.
+Vec3 up_direction(const GeometryFlags& flags);
+
+// The geometry flags given (not --proxy/--proxy-file), as "--center", ...
+std::vector<std::string> given_geometry_flags(const GeometryFlags& flags);
+
+// The flags a kind uses, e.g. sphere: --center --radius --pole --equator --up.
+std::vector<std::string> flags_of_kind(ProxyKind kind);
+
+// The flags a kind needs that were not given (pole/axis/normal default to
+// --up and equator to the rule of mapping/proxy.h, so they are never missing).
+// `fit` fills exactly these from the mesh.
+std::vector<std::string> missing_geometry_flags(const GeometryFlags& flags, ProxyKind kind);
+
+// Checks the combination (see the file comment). Errors: kInvalidArgument.
+// `require_proxy`: one of --proxy / --proxy-file must be given.
+Status check_geometry_flags(const GeometryFlags& flags, bool require_proxy);
+
+// ProxyParams of `kind` from the flags alone; the error (kInvalidArgument)
+// names the first missing flag. Not validated: see make_proxy.
+Expected<ProxyParams> params_from_flags(const GeometryFlags& flags, ProxyKind kind);
+
+// `fitted` (e.g. from texbake fit) with every given geometry flag written
+// over it. --up is not applied (fit takes it as its axis hint). Error
+// (kInvalidArgument) if `fitted` is not of the --proxy kind.
+Expected<ProxyParams> merge_flags(const GeometryFlags& flags, ProxyParams fitted);
+
+// The whole path for commands that do not fit: check_geometry_flags, then
+// read --proxy-file (errors kIo/kParse: exit 1, naming file and key) or build
+// from the flags and validate with make_proxy (errors kInvalidArgument:
+// exit 2, naming the flag).
+Expected<Proxy> proxy_from_flags(const GeometryFlags& flags);
+
+}  // namespace texbake::cli

@@ -1,0 +1,195 @@
+// OpenImageIO <-> Image. The only file that includes OIIO.
+#include "mesh_io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "mapping/sample.h"
+#include "mesh_io/atomic_file.h"
+
+namespace texbake {
+namespace fs = std::filesystem;
+
+namespace {
+
+Error image_error(ErrorCode code, const fs::path& path, const std::string& what) {
+  return make_error(code, path.string() + ": " + what);
+}
+
+// OIIO error text can hold several lines; keep the first, trimmed.
+std::string first_line(std::string s) {
+  const auto nl = s.find('\n');
+  if (nl != std::string::npos) s.resize(nl);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  return s.empty() ? std::string("unknown OpenImageIO error") : s;
+}
+
+// A decoded image is held as floats: refuse sizes that cannot be a real
+// texture before allocating (a lying header could ask for terabytes).
+constexpr long long kMaxPixels = 1ll << 28;  // 16384 x 16384
+
+}  // namespace
+
+Expected<Image> read_image(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (ec || !fs::exists(st)) return image_error(ErrorCode::kIo, path, "no such file");
+  if (fs::is_directory(st)) return image_error(ErrorCode::kIo, path, "is a folder, not an image");
+  if (fs::is_regular_file(st) && fs::file_size(path, ec) == 0) {
+    return image_error(ErrorCode::kParse, path, "the file is empty (0 bytes)");
+  }
+  // Keep the stored values (SPEC section 1): without this OIIO premultiplies
+  // colour by alpha when it reads PNG, GIF and other unassociated formats.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path.string(), &config);
+  if (!in) {
+    return image_error(ErrorCode::kParse, path,
+                       "cannot read as an image: " + first_line(OIIO::geterror()));
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  const long long w = spec.width, h = spec.height;
+  if (w <= 0 || h <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
+    return image_error(ErrorCode::kParse, path,
+                       "has " + std::to_string(w) + " x " + std::to_string(h) + " pixels and " +
+                           std::to_string(spec.nchannels) + " channels: no image to use");
+  }
+  if (w * h > kMaxPixels) {
+    return image_error(ErrorCode::kParse, path,
+                       std::to_string(w) + " x " + std::to_string(h) +
+                           " pixels is larger than texbake reads (" + std::to_string(kMaxPixels) +
+                           " pixels)");
+  }
+  const int nc = spec.nchannels;
+  // Reads into float: OIIO scales integer formats to [0, 1] (uint8 / 255,
+  // uint16 / 65535) and keeps float values.
+  std::vector<float> raw(static_cast<std::size_t>(w * h) * nc);
+  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data())) {
+    return image_error(ErrorCode::kParse, path,
+                       "cannot decode (truncated or corrupt?): " + first_line(in->geterror()));
+  }
+  // libjpeg and friends report some damage only as a warning-level error
+  // that leaves read_image() true; treat any pending error as failure.
+  if (in->has_error()) {
+    return image_error(ErrorCode::kParse, path,
+                       "cannot decode (truncated or corrupt?): " + first_line(in->geterror()));
+  }
+  in->close();
+
+  Image img;
+  img.width = static_cast<int>(w);
+  img.height = static_cast<int>(h);
+  img.pixels.resize(static_cast<std::size_t>(w * h) * 4);
+  const int alpha = nc == 2 ? 1 : nc == 4 ? 3 : (spec.alpha_channel >= 3 ? spec.alpha_channel : -1);
+  const std::size_t n = static_cast<std::size_t>(w * h);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* s = &raw[i * nc];
+    float* d = &img.pixels[i * 4];
+    if (nc < 3) {
+      d[0] = d[1] = d[2] = s[0];
+    } else {
+      d[0] = s[0];
+      d[1] = s[1];
+      d[2] = s[2];
+    }
+    d[3] = alpha >= 0 ? s[alpha] : 1.f;
+  }
+  return img;
+}
+
+void srgb_to_linear_in_place(Image& image) {
+  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+    for (int k = 0; k < 3; ++k) image.pixels[i + k] = srgb_to_linear(image.pixels[i + k]);
+  }
+}
+
+void linear_to_srgb_in_place(Image& image) {
+  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
+    for (int k = 0; k < 3; ++k) image.pixels[i + k] = linear_to_srgb(image.pixels[i + k]);
+  }
+}
+
+namespace {
+
+template <class T>
+std::vector<T> quantize(const ImageView& image, int channels, float max) {
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  std::vector<T> out(n * channels);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < channels; ++k) {
+      const float c = image.data[i * 4 + k];
+      // Clamp, then round to nearest (NaN -> 0).
+      const float q = !(c > 0.f) ? 0.f : (c >= 1.f ? max : std::round(c * max));
+      out[i * channels + k] = static_cast<T>(q);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Status write_image(const fs::path& path, const ImageView& image, const ImageWriteOptions& options) {
+  if (image.width <= 0 || image.height <= 0 || image.data == nullptr) {
+    return make_error(ErrorCode::kInternal, "cannot write " + path.string() + ": empty image");
+  }
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  bool opaque = true;
+  for (std::size_t i = 0; i < n && opaque; ++i) opaque = image.data[i * 4 + 3] >= 1.f;
+  const int channels = opaque ? 3 : 4;
+
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  ImageBitDepth depth = options.bit_depth;
+  if (ext == ".exr" || ext == ".hdr") depth = ImageBitDepth::kFloat;
+  if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg") && depth == ImageBitDepth::kFloat) {
+    depth = ImageBitDepth::k16;
+  }
+  if (ext == ".jpg" || ext == ".jpeg") depth = ImageBitDepth::k8;
+
+  return write_atomically(path, [&](const fs::path& temp) -> Status {
+    auto out = OIIO::ImageOutput::create(temp.string());
+    if (!out) {
+      return make_error(ErrorCode::kUnsupported, "cannot write " + path.string() +
+                                                     ": no image format for '" + ext + "' (" +
+                                                     first_line(OIIO::geterror()) + ")");
+    }
+    OIIO::TypeDesc type = depth == ImageBitDepth::k8    ? OIIO::TypeDesc::UINT8
+                          : depth == ImageBitDepth::k16 ? OIIO::TypeDesc::UINT16
+                                                        : OIIO::TypeDesc::FLOAT;
+    OIIO::ImageSpec spec(image.width, image.height, channels, type);
+    if (channels == 4) {
+      spec.alpha_channel = 3;
+      // Our values are unassociated (straight) alpha: stop OIIO dividing by it.
+      spec.attribute("oiio:UnassociatedAlpha", 1);
+    }
+    if (!out->open(temp.string(), spec)) {
+      return make_error(ErrorCode::kIo,
+                        "cannot write " + path.string() + ": " + first_line(out->geterror()));
+    }
+    bool ok = false;
+    if (depth == ImageBitDepth::k8) {
+      const auto q = quantize<uint8_t>(image, channels, 255.f);
+      ok = out->write_image(OIIO::TypeDesc::UINT8, q.data());
+    } else if (depth == ImageBitDepth::k16) {
+      const auto q = quantize<uint16_t>(image, channels, 65535.f);
+      ok = out->write_image(OIIO::TypeDesc::UINT16, q.data());
+    } else {
+      std::vector<float> f(n * channels);
+      for (std::size_t i = 0; i < n; ++i) {
+        for (int k = 0; k < channels; ++k) f[i * channels + k] = image.data[i * 4 + k];
+      }
+      ok = out->write_image(OIIO::TypeDesc::FLOAT, f.data());
+    }
+    const bool closed = out->close();
+    if (!ok || !closed) {
+      return make_error(ErrorCode::kIo,
+                        "cannot write " + path.string() + ": " + first_line(out->geterror()));
+    }
+    return ok_status();
+  });
+}
+
+}  // namespace texbake

@@ -1,0 +1,62 @@
+// Images in and out through OpenImageIO (SPEC sections 1 and 7). Only
+// image_io.cpp includes OIIO.
+//
+// Reading: every format and layout OIIO reads (PNG, JPEG, TIFF, EXR, HDR, ...;
+// 8/16-bit integer, half, float; 1-4 channels) becomes one owning float RGBA
+// image, top row first:
+//   1 channel: gray -> (g, g, g, 1)        2 channels: gray + alpha -> (g, g, g, a)
+//   3 channels: (r, g, b, 1)               4 channels: (r, g, b, a)
+//   more: the first three as RGB, alpha from the file's alpha channel or 1.
+// Integer formats are scaled to [0, 1] (uint8 / 255, uint16 / 65535); float
+// formats keep their values. No colour-space conversion happens on reading.
+// Errors (file named): missing, a folder, unreadable, not an image, truncated
+// or 0-pixel images.
+//
+// Writing goes through write_atomically (temporary name keeps the real
+// extension last, from which OIIO picks the format): .png as 8-bit (default)
+// or 16-bit, .exr as float; other extensions OIIO writes are accepted with
+// 8-bit data (16-bit / float where the format allows and requested). Values
+// are clamped to [0, 1] and rounded to nearest for integer outputs. Alpha is
+// written only when some pixel is not opaque.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include "mapping/error.h"
+#include "mapping/image_view.h"
+
+namespace texbake {
+
+// Owning float RGBA image; view() is valid while the Image lives unchanged.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<float> pixels;  // width * height * 4, top row first
+
+  ImageView view() const { return {width, height, pixels.data()}; }
+};
+
+Expected<Image> read_image(const std::filesystem::path& path);
+
+// sRGB -> linear (mapping/sample.h's srgb_to_linear) on R, G, B of every
+// pixel; alpha is left alone. For `--linear` (SPEC section 1).
+void srgb_to_linear_in_place(Image& image);
+// The inverse, linear -> sRGB on R, G, B.
+void linear_to_srgb_in_place(Image& image);
+
+enum class ImageBitDepth {
+  k8,      // PNG default
+  k16,     // 16-bit PNG / TIFF
+  kFloat,  // EXR (always float, whatever is requested)
+};
+
+struct ImageWriteOptions {
+  ImageBitDepth bit_depth = ImageBitDepth::k8;
+};
+
+// Precondition: image has at least 1x1 pixel.
+Status write_image(const std::filesystem::path& path, const ImageView& image,
+                   const ImageWriteOptions& options = {});
+
+}  // namespace texbake

@@ -1,0 +1,233 @@
+// read_mesh: every input format, polygons, non-manifold input, vertex order,
+// attributes. Expected values are worked out by hand from the small inline
+// files (or from the data README for the shared meshes).
+#include "mesh_io/read_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "tests/mesh_io/test_files.h"
+
+namespace texbake {
+namespace {
+
+using test::fresh_temp_dir;
+using test::write_text;
+namespace fs = std::filesystem;
+
+class ReadMesh : public ::testing::Test {
+ protected:
+  fs::path dir = fresh_temp_dir("read");
+  void TearDown() override { fs::remove_all(dir); }
+
+  LoadedMesh load(const std::string& name, const std::string& text) {
+    Expected<LoadedMesh> m = read_mesh(write_text(dir / name, text));
+    EXPECT_TRUE(m.has_value()) << (m ? "" : m.error().message);
+    return m ? std::move(*m) : LoadedMesh{};
+  }
+};
+
+double triangle_area(const MeshData& m, const std::array<uint32_t, 3>& t) {
+  const Float3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+  const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+  const double vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
+  const double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+  return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+TEST_F(ReadMesh, EdgeSharedByThreeTrianglesKeepsAllThreeFaces) {
+  // Edge 0-1 is shared by three triangles (a "book" of three pages).
+  auto m = load("book.off",
+                "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 -1 0\n3 0 1 2\n3 1 0 3\n3 0 1 4\n");
+  EXPECT_EQ(m.mesh.face_count(), 3u);
+  EXPECT_EQ(m.mesh.triangles.size(), 3u);
+  EXPECT_EQ(m.issues.non_manifold_edges, 1u);
+  EXPECT_EQ(m.issues.degenerate_triangles, 0u);
+  const std::vector<uint32_t> expected = {0, 1, 2, 1, 0, 3, 0, 1, 4};
+  EXPECT_EQ(m.mesh.face_vertices, expected);
+}
+
+TEST_F(ReadMesh, VertexOrderAndCountKeptWithUnreferencedVertices) {
+  auto m = load("unref.off", "OFF\n5 1 0\n9 9 9\n0 0 0\n7 7 7\n1 0 0\n0 1 0\n3 1 3 4\n");
+  ASSERT_EQ(m.mesh.vertex_count(), 5u);
+  EXPECT_EQ(m.mesh.positions[0].x, 9.f);
+  EXPECT_EQ(m.mesh.positions[2].y, 7.f);
+  EXPECT_EQ(m.mesh.positions[3].x, 1.f);
+  EXPECT_EQ(m.issues.unreferenced_vertices, 2u);
+  ASSERT_EQ(m.mesh.triangles.size(), 1u);
+  EXPECT_EQ(m.mesh.triangles[0], (std::array<uint32_t, 3>{1, 3, 4}));
+}
+
+TEST_F(ReadMesh, QuadIsTriangulatedAndKeptAsOneFace) {
+  auto m = load("quad.off", "OFF\n4 1 0\n0 0 0\n2 0 0\n2 1 0\n0 1 0\n4 0 1 2 3\n");
+  EXPECT_EQ(m.mesh.face_count(), 1u);
+  ASSERT_EQ(m.mesh.triangles.size(), 2u);
+  double area = 0;
+  for (const auto& t : m.mesh.triangles) area += triangle_area(m.mesh, t);
+  EXPECT_DOUBLE_EQ(area, 2.0);
+  EXPECT_EQ(m.mesh.triangle_face, (std::vector<uint32_t>{0, 0}));
+}
+
+TEST_F(ReadMesh, NonConvexPolygonIsEarClippedWithoutOverlap) {
+  // An L-shaped hexagon made of three unit squares: area 3. A fan from
+  // vertex 0 would cover the notch (area 4 would show as overlap/outside).
+  auto m = load("l.obj", "v 0 0 0\nv 2 0 0\nv 2 1 0\nv 1 1 0\nv 1 2 0\nv 0 2 0\nf 1 2 3 4 5 6\n");
+  ASSERT_EQ(m.mesh.triangles.size(), 4u);
+  double area = 0;
+  for (const auto& t : m.mesh.triangles) {
+    area += triangle_area(m.mesh, t);
+    // Every triangle keeps the polygon's counter-clockwise orientation (+z).
+    const Float3 a = m.mesh.positions[t[0]], b = m.mesh.positions[t[1]], c = m.mesh.positions[t[2]];
+    EXPECT_GT((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x), 0);
+  }
+  EXPECT_DOUBLE_EQ(area, 3.0);
+}
+
+TEST_F(ReadMesh, AllDegenerateMeshLoadsWithEveryTriangleCounted) {
+  Expected<LoadedMesh> m = read_mesh(test::bad_dir() / "all_degenerate.off");
+  ASSERT_TRUE(m.has_value());
+  EXPECT_EQ(m->mesh.face_count(), 2u);
+  EXPECT_TRUE(m->mesh.triangles.empty());
+  EXPECT_EQ(m->issues.degenerate_triangles, 2u);
+}
+
+TEST_F(ReadMesh, ObjWithUvsNormalsColoursAndMaterial) {
+  write_text(dir / "m.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd tex/paint.png\n");
+  auto m = load("m.obj",
+                "mtllib m.mtl\n"
+                "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0 1 0 0.25 0.5 0.75\n"
+                "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+                "usemtl paint\nf 1/1/1 2/2/1 3/3/1 4/4/1\n");
+  ASSERT_EQ(m.mesh.vertex_count(), 4u);
+  EXPECT_EQ(m.mesh.face_count(), 1u);
+  EXPECT_EQ(m.mesh.triangles.size(), 2u);
+  ASSERT_TRUE(m.mesh.has_uvs());
+  ASSERT_EQ(m.mesh.corner_uv.size(), 4u);
+  EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[2]].u, 1.f);
+  EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[2]].v, 1.f);
+  EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[3]].u, 0.f);
+  EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[3]].v, 1.f);
+  ASSERT_EQ(m.mesh.corner_normal.size(), 4u);
+  EXPECT_EQ(m.mesh.normals[m.mesh.corner_normal[1]].z, 1.f);
+  ASSERT_TRUE(m.mesh.has_vertex_colors());
+  EXPECT_EQ(m.mesh.vertex_colors[1], (std::array<float, 4>{0, 1, 0, 1}));
+  EXPECT_EQ(m.mesh.vertex_colors[3], (std::array<float, 4>{0.25f, 0.5f, 0.75f, 1}));
+  EXPECT_EQ(fs::path(m.mesh.texture_path), (dir / "tex" / "paint.png").lexically_normal());
+}
+
+TEST_F(ReadMesh, ObjNegativeIndicesAreRelative) {
+  // -1 is the last vertex defined so far: f -3 -2 -1 is f 1 2 3 here.
+  auto m = load("rel.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n");
+  EXPECT_EQ(m.mesh.face_vertices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST_F(ReadMesh, PlyAsciiFloatColoursKeptExactly) {
+  auto m = load("c.ply",
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                "property float z\nproperty float red\nproperty float green\nproperty float blue\n"
+                "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                "0 0 0 0.5 0.25 1\n1 0 0 0 0 0\n0 1 0 1 1 1\n3 0 1 2\n");
+  ASSERT_TRUE(m.mesh.has_vertex_colors());
+  EXPECT_EQ(m.mesh.vertex_colors[0], (std::array<float, 4>{0.5f, 0.25f, 1, 1}));
+}
+
+// Binary big-endian PLY with double coordinates, uchar colours with alpha, a
+// quad and an extra element, assembled by hand.
+TEST_F(ReadMesh, PlyBinaryBigEndianWithColoursAndQuad) {
+  std::string s =
+      "ply\nformat binary_big_endian 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+      "property double z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "property uchar alpha\nelement face 1\nproperty list uchar uint vertex_indices\n"
+      "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  auto be = [&](const void* p, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) s += static_cast<const char*>(p)[n - 1 - i];
+  };
+  const double xyz[4][3] = {{0, 0, 0}, {3, 0, 0}, {3, 2, 0}, {0, 2, 0}};
+  const unsigned char rgba[4][4] = {
+      {255, 0, 0, 255}, {0, 255, 0, 128}, {0, 0, 255, 0}, {51, 102, 153, 255}};
+  for (int v = 0; v < 4; ++v) {
+    for (double c : xyz[v]) be(&c, 8);
+    for (unsigned char c : rgba[v]) s += static_cast<char>(c);
+  }
+  s += static_cast<char>(4);
+  for (uint32_t i : {0u, 1u, 2u, 3u}) be(&i, 4);
+  for (int32_t i : {0, 1}) be(&i, 4);
+  auto m = load("be.ply", s);
+  ASSERT_EQ(m.mesh.vertex_count(), 4u);
+  EXPECT_EQ(m.mesh.positions[2].x, 3.f);
+  EXPECT_EQ(m.mesh.positions[2].y, 2.f);
+  EXPECT_EQ(m.mesh.face_vertices, (std::vector<uint32_t>{0, 1, 2, 3}));
+  EXPECT_EQ(m.mesh.triangles.size(), 2u);
+  EXPECT_EQ(m.mesh.vertex_colors[1][3], 128 / 255.f);
+  EXPECT_EQ(m.mesh.vertex_colors[3][0], 51 / 255.f);
+  EXPECT_EQ(m.mesh.vertex_colors[3][2], 153 / 255.f);
+}
+
+TEST_F(ReadMesh, StlAsciiAndBinaryMergeCorners) {
+  const std::string ascii =
+      "solid sq\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 1 1 "
+      "0\nendloop\n"
+      "endfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 1 0\nvertex 0 1 "
+      "0\nendloop\n"
+      "endfacet\nendsolid sq\n";
+  auto a = load("a.stl", ascii);
+  EXPECT_EQ(a.mesh.face_count(), 2u);
+  EXPECT_EQ(a.mesh.vertex_count(), 4u);  // STL repeats corners; OpenMesh merges equal ones
+  EXPECT_EQ(a.mesh.triangles.size(), 2u);
+
+  std::string bin(80, '\0');
+  auto put = [&](const void* p, std::size_t n) { bin.append(static_cast<const char*>(p), n); };
+  const uint32_t count = 2;
+  put(&count, 4);
+  const float tris[2][12] = {{0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 1, 0},
+                             {0, 0, 1, 0, 0, 0, 1, 1, 0, 0, 1, 0}};
+  for (const auto& t : tris) {
+    put(t, 48);
+    bin += std::string(2, '\0');
+  }
+  auto b = load("b.stl", bin);
+  EXPECT_EQ(b.mesh.face_count(), 2u);
+  EXPECT_EQ(b.mesh.vertex_count(), 4u);
+  EXPECT_EQ(b.mesh.triangles.size(), 2u);
+}
+
+// Shared data: counts from /work/shared/data/README.md.
+TEST(ReadMeshSharedData, BunnyCountsMatchTheReadme) {
+  Expected<LoadedMesh> m = read_mesh(fs::path(TEXBAKE_SHARED_DATA_DIR) / "bunny00.off");
+  ASSERT_TRUE(m.has_value()) << m.error().message;
+  EXPECT_EQ(m->mesh.vertex_count(), 37706u);
+  EXPECT_EQ(m->mesh.face_count(), 75408u);
+  EXPECT_EQ(m->mesh.triangles.size() + m->issues.degenerate_triangles, 75408u);
+}
+
+TEST(ReadMeshSharedData, SuzanneQuadsWithUvs) {
+  const fs::path path = fs::path(TEXBAKE_SHARED_DATA_DIR) / "suzanne_uv.obj";
+  // Count faces and expected triangles independently from the text.
+  std::istringstream text(test::read_bytes(path));
+  std::string line;
+  std::size_t faces = 0, fan_triangles = 0, v_lines = 0;
+  while (std::getline(text, line)) {
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "v") ++v_lines;
+    if (key != "f") continue;
+    std::size_t corners = 0;
+    for (std::string tok; ls >> tok;) ++corners;
+    ++faces;
+    fan_triangles += corners - 2;
+  }
+  Expected<LoadedMesh> m = read_mesh(path);
+  ASSERT_TRUE(m.has_value()) << m.error().message;
+  EXPECT_EQ(m->mesh.vertex_count(), v_lines);
+  EXPECT_EQ(m->mesh.face_count(), faces);
+  EXPECT_EQ(m->mesh.triangles.size() + m->issues.degenerate_triangles, fan_triangles);
+  EXPECT_TRUE(m->mesh.has_uvs());
+  EXPECT_EQ(m->mesh.corner_uv.size(), m->mesh.face_vertices.size());
+}
+
+}  // namespace
+}  // namespace texbake
