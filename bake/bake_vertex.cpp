@@ -264,11 +264,13 @@ Rgba image_mean(const ImageView& image) {
 
 }  // namespace
 
-Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& image,
-                                       const Proxy& proxy, const VertexBakeOptions& options,
-                                       Progress* progress) {
+Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageView& image,
+                                             const Proxy& proxy, const VertexBakeOptions& options,
+                                             Progress* progress) {
   using Clock = std::chrono::steady_clock;
-  VertexBakeResult result;
+  VertexBakeStage stage;
+  stage.options = options;
+  VertexBakeResult& result = stage.result;
   const std::size_t n = mesh.positions.size();
   result.counts.vertices = n;
   result.counts.triangles = mesh.triangles.size();
@@ -316,7 +318,8 @@ Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& im
     ctx.ray_offset = visibility_offset(*scene);
   }
 
-  std::vector<uint8_t> state(n, kVisible);
+  std::vector<uint8_t>& state = stage.state;
+  state.assign(n, kVisible);
   std::atomic<std::size_t> samples{0}, outside{0};
   if (progress) progress->start("bake", n);
   parallel_for_chunks(n, kVertexGrain, [&](std::size_t begin, std::size_t end) {
@@ -363,16 +366,27 @@ Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& im
       if (!mean) mean = image_mean(ctx.image);
       return *mean;
     };
-    Expected<FillResult> filled = fill_harmonic(mesh, result.colors, unknown, fallback);
-    if (!filled) return filled.error();
-    result.counts.filled = filled->filled;
-    result.counts.unfilled = filled->unfilled;
+    stage.plan = plan_fill(mesh, result.colors, unknown, fallback);
+    result.counts.filled = stage.plan.result.filled;
+    result.counts.unfilled = stage.plan.result.unfilled;
     samples += fallback_counts.samples;
     outside += fallback_counts.outside;
   }
   result.counts.samples = samples.load();
   result.counts.outside = outside.load();
+  result.timings.fill = seconds_since(fill_start);
+  return stage;
+}
 
+Expected<VertexBakeResult> bake_vertex_finish(const MeshData& mesh, VertexBakeStage stage) {
+  const auto fill_start = std::chrono::steady_clock::now();
+  VertexBakeResult& result = stage.result;
+  const VertexBakeOptions& options = stage.options;
+  const std::size_t n = result.colors.size();
+  if (result.counts.filled > 0) {
+    Expected<FillResult> filled = solve_fill(mesh, result.colors, std::move(stage.plan));
+    if (!filled) return filled.error();
+  }
   if (options.linear) {
     parallel_for_chunks(n, 16384, [&](std::size_t begin, std::size_t end) {
       for (std::size_t v = begin; v < end; ++v) {
@@ -382,11 +396,19 @@ Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& im
   }
   if (options.occluded == OccludedMode::kColor) {
     for (std::size_t v = 0; v < n; ++v) {
-      if (state[v] != kVisible) result.colors[v] = options.occluded_color;
+      if (stage.state[v] != kVisible) result.colors[v] = options.occluded_color;
     }
   }
-  result.timings.fill = seconds_since(fill_start);
-  return result;
+  result.timings.fill += seconds_since(fill_start);
+  return std::move(result);
+}
+
+Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& image,
+                                       const Proxy& proxy, const VertexBakeOptions& options,
+                                       Progress* progress) {
+  Expected<VertexBakeStage> stage = bake_vertex_sample(mesh, image, proxy, options, progress);
+  if (!stage) return stage.error();
+  return bake_vertex_finish(mesh, std::move(stage).value());
 }
 
 }  // namespace texbake

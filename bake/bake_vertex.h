@@ -34,6 +34,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "bake/occlusion_fill.h"
 #include "bake/options.h"
 #include "bake/progress.h"
 #include "mapping/error.h"
@@ -72,5 +73,21 @@ struct VertexBakeResult {
 Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& image,
                                        const Proxy& proxy, const VertexBakeOptions& options,
                                        Progress* progress = nullptr);
+
+// The same in two steps, for callers that free the image before the fill's
+// solve (the memory peak): bake_vertex_sample does everything that reads the
+// image (scene, visibility, sampling, the fill's fallbacks); the image may be
+// released once it returns. bake_vertex_finish solves the fill and converts
+// back from linear. bake_vertex(...) == bake_vertex_finish(mesh, bake_vertex_sample(...)).
+struct VertexBakeStage {
+  VertexBakeResult result;     // colours still in the working encoding
+  std::vector<uint8_t> state;  // per vertex: visible, occluded or undefined
+  FillPlan plan;
+  VertexBakeOptions options;
+};
+Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageView& image,
+                                             const Proxy& proxy, const VertexBakeOptions& options,
+                                             Progress* progress = nullptr);
+Expected<VertexBakeResult> bake_vertex_finish(const MeshData& mesh, VertexBakeStage stage);
 
 }  // namespace texbake

@@ -37,11 +37,12 @@ constexpr uint32_t kNotUnknown = 0xFFFFFFFFu;
 
 }  // namespace
 
-Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colors,
-                                   const std::vector<uint8_t>& unknown,
-                                   const std::function<Rgba(uint32_t vertex)>& fallback) {
+FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
+                   const std::vector<uint8_t>& unknown,
+                   const std::function<Rgba(uint32_t vertex)>& fallback) {
   const std::size_t n = mesh.positions.size();
-  FillResult result;
+  FillPlan plan;
+  FillResult& result = plan.result;
 
   // Number the unknown vertices 0..m-1.
   std::vector<uint32_t> slot(n, kNotUnknown);
@@ -53,7 +54,7 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
     }
   }
   const std::size_t m = vertex_of.size();
-  if (m == 0) return result;
+  if (m == 0) return plan;
 
   // Components of unknown vertices, and which of them touch a known vertex.
   DisjointSets sets(m);
@@ -90,7 +91,6 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
     }
     ++component_start[component_of_root[root]];
   }
-  const std::size_t components = component_start.size();
   {
     uint32_t total = 0;
     for (uint32_t& c : component_start) total += std::exchange(c, total);
@@ -109,9 +109,24 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
       }
     }
   }
-  const std::size_t rows = component_start.back();
-  result.filled = rows;
+  result.filled = component_start.back();
+  plan.slot = std::move(slot);
+  plan.row = std::move(row);
+  plan.vertex_of = std::move(vertex_of);
+  plan.component_start = std::move(component_start);
+  return plan;
+}
+
+Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors, FillPlan plan) {
+  const std::vector<uint32_t>& slot = plan.slot;
+  const std::vector<uint32_t>& row = plan.row;
+  const std::vector<uint32_t>& vertex_of = plan.vertex_of;
+  const std::vector<uint32_t>& component_start = plan.component_start;
+  const FillResult result = plan.result;
+  const std::size_t m = vertex_of.size();
+  const std::size_t rows = result.filled;
   if (rows == 0) return result;
+  const std::size_t components = component_start.size() - 1;
 
   // L_uu c_u = W_ub c_b: each triangle edge adds weight 1 (so an interior edge
   // of a manifold mesh weighs 2, uniformly: the solution is unchanged).
@@ -184,6 +199,12 @@ Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colo
     for (int c = 0; c < 4; ++c) colors[vertex_of[i]][c] = static_cast<float>(rhs(r, c));
   }
   return result;
+}
+
+Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colors,
+                                   const std::vector<uint8_t>& unknown,
+                                   const std::function<Rgba(uint32_t vertex)>& fallback) {
+  return solve_fill(mesh, colors, plan_fill(mesh, colors, unknown, fallback));
 }
 
 }  // namespace texbake

@@ -35,6 +35,23 @@ struct FillResult {
   std::size_t unfilled = 0;  // unknown vertices in components with no known vertex
 };
 
+// The fill in two steps, so a caller can free what only the fallback needs
+// (the image) before the solve, the memory peak: plan_fill numbers the
+// unknowns, finds the components and gives unanchored ones their fallback;
+// solve_fill solves for the rest. fill_harmonic = solve_fill(plan_fill(...)).
+struct FillPlan {
+  FillResult result;
+  std::vector<uint32_t> slot;             // per vertex: index among the unknowns, or ~0u
+  std::vector<uint32_t> row;              // per unknown: row of the system, or ~0u (unfilled)
+  std::vector<uint32_t> vertex_of;        // per unknown: its vertex
+  std::vector<uint32_t> component_start;  // rows of component c: [start[c], start[c+1])
+};
+FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
+                   const std::vector<uint8_t>& unknown,
+                   const std::function<Rgba(uint32_t vertex)>& fallback);
+// colors must hold the known vertices' colours (as given to plan_fill).
+Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors, FillPlan plan);
+
 // colors: one per vertex of mesh (read for known vertices, written for unknown
 // ones). unknown: one flag per vertex (1 = to fill). The graph is
 // mesh.triangles. Errors: kInternal if the solver fails (should not happen:

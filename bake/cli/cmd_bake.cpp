@@ -245,8 +245,11 @@ int run_bake(const BakeCliOptions& o) {
   options.plane_wrap = o.wrap.value_or(WrapMode::kClamp);
 
   Progress progress(!o.quiet && Progress::stderr_is_terminal());
-  Expected<VertexBakeResult> baked =
-      bake_vertex(mesh->mesh, image->view(), *proxy, options, &progress);
+  Expected<VertexBakeStage> sampled =
+      bake_vertex_sample(mesh->mesh, image->view(), *proxy, options, &progress);
+  if (!sampled) return report_error(sampled.error());
+  image = Image{};  // nothing reads the image any more: free it before the fill's peak
+  Expected<VertexBakeResult> baked = bake_vertex_finish(mesh->mesh, std::move(sampled).value());
   if (!baked) return report_error(baked.error());
   report.counts = baked->counts;
   report.timings.scene_build = baked->timings.scene_build;
