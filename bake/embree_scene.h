@@ -3,7 +3,7 @@
 // embree_scene.cpp includes <embree3/rtcore.h>.
 //
 // Rays come as structure-of-arrays batches; the implementation copies them in
-// blocks into aligned SoA arrays for Embree's stream API (rtcOccludedNp /
+// blocks into aligned arrays for Embree's stream API (rtcOccluded1M /
 // rtcIntersectNp). Every ray is fully initialised inside (mask = -1: Debian's
 // Embree is built with ray masks, and a ray with another mask hits nothing).
 #pragma once

@@ -182,6 +182,7 @@ const EmbreeScene& scene_for(int64_t mesh_index) {
 constexpr std::size_t kGrain = 4096;  // as bake/visibility.cpp
 
 void BM_VisibilityOurs(benchmark::State& state) {
+  ThreadLimit limit(static_cast<int>(state.range(1)));
   const EmbreeScene& scene = scene_for(state.range(0));
   const RaySet& rays = rays_for(state.range(0), scene);
   std::vector<Vec3> points, dirs;
@@ -198,10 +199,15 @@ void BM_VisibilityOurs(benchmark::State& state) {
                                                     benchmark::Counter::kIsIterationInvariantRate);
   state.counters["visible"] = static_cast<double>(visible);
 }
-BENCHMARK(BM_VisibilityOurs)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_VisibilityOurs)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"mesh", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The same rays through EmbreeScene::occluded directly (no Vec3 -> float copy).
 void BM_VisibilitySceneOccluded(benchmark::State& state) {
+  ThreadLimit limit(static_cast<int>(state.range(1)));
   const EmbreeScene& scene = scene_for(state.range(0));
   const RaySet& rays = rays_for(state.range(0), scene);
   const std::size_t n = rays.ox.size();
@@ -225,15 +231,20 @@ void BM_VisibilitySceneOccluded(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
   state.counters["visible"] = static_cast<double>(std::count(occluded.begin(), occluded.end(), 0));
 }
-BENCHMARK(BM_VisibilitySceneOccluded)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_VisibilitySceneOccluded)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"mesh", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
-// A raw Embree scene with the same flags as EmbreeScene (robust, low quality).
+// A raw Embree scene with the same flags as EmbreeScene (robust, compact, low quality).
 struct RawScene {
   RTCDevice device = rtcNewDevice(nullptr);
   RTCScene scene = rtcNewScene(device);
   std::vector<float> vertices;
-  explicit RawScene(const MeshData& mesh) {
-    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+  RawScene(const MeshData& mesh, bool compact) {
+    rtcSetSceneFlags(scene, static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_ROBUST |
+                                                       (compact ? RTC_SCENE_FLAG_COMPACT : 0)));
     rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_LOW);
@@ -255,10 +266,12 @@ struct RawScene {
   }
 };
 
-RawScene& raw_scene_for(int64_t mesh_index) {
-  static std::optional<RawScene> cache[2];
-  if (!cache[mesh_index]) cache[mesh_index].emplace(mesh_by_index(mesh_index));
-  return *cache[mesh_index];
+// compact = true: the flags of EmbreeScene; false: without RTC_SCENE_FLAG_COMPACT.
+RawScene& raw_scene_for(int64_t mesh_index, bool compact) {
+  static std::optional<RawScene> cache[2][2];
+  auto& slot = cache[mesh_index][compact ? 1 : 0];
+  if (!slot) slot.emplace(mesh_by_index(mesh_index), compact);
+  return *slot;
 }
 
 RTCRay make_ray(const RaySet& r, std::size_t i) {
@@ -277,10 +290,11 @@ RTCRay make_ray(const RaySet& r, std::size_t i) {
 enum RawMode { kOccluded1, kOccluded1M, kOccluded16, kOccludedNp };
 
 void BM_RawEmbree(benchmark::State& state) {
+  ThreadLimit limit(static_cast<int>(state.range(2)));
   const int64_t mesh_index = state.range(0);
   const auto mode = static_cast<RawMode>(state.range(1));
   const RaySet& rays = rays_for(mesh_index, scene_for(mesh_index));
-  RTCScene scene = raw_scene_for(mesh_index).scene;
+  RTCScene scene = raw_scene_for(mesh_index, state.range(3) == 1).scene;
   const std::size_t n = rays.ox.size();
   std::vector<uint8_t> occluded(n);
   for (auto _ : state) {
@@ -339,8 +353,8 @@ void BM_RawEmbree(benchmark::State& state) {
   state.SetLabel(names[mode]);
 }
 BENCHMARK(BM_RawEmbree)
-    ->ArgsProduct({{0, 1}, {kOccluded1, kOccluded1M, kOccluded16, kOccludedNp}})
-    ->ArgNames({"mesh", "mode"})
+    ->ArgsProduct({{0, 1}, {kOccluded1, kOccluded1M, kOccluded16, kOccludedNp}, {1, 2}, {1, 0}})
+    ->ArgNames({"mesh", "mode", "threads", "compact"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
