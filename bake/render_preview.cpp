@@ -268,10 +268,7 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
       double sum[3] = {0, 0, 0};
       int covered = 0;
       for (int k = 0; k < spp; ++k, ++i) {
-        if (s.hits[i].triangle == kNoHit) {
-          for (int c = 0; c < 3; ++c) sum[c] += opt.background[c];
-          continue;
-        }
+        if (s.hits[i].triangle == kNoHit) continue;
         ++covered;
         const Vec3 nrm = s.normal[i];
         const Vec3 view = normalize(eye - s.point[i]);
@@ -294,8 +291,15 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
       float* out =
           sheet +
           (static_cast<std::size_t>(job.sheet_y + y) * ctx.sheet_width + job.sheet_x + x) * 4;
-      for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(sum[c] / spp);
-      out[3] = static_cast<float>(covered) / spp;
+      // Straight (unassociated) alpha, as PNG stores it: RGB is the mean of
+      // the covering samples, alpha the covered fraction.
+      if (covered > 0) {
+        for (int c = 0; c < 3; ++c) out[c] = static_cast<float>(sum[c] / covered);
+        out[3] = static_cast<float>(covered) / spp;
+      } else {
+        for (int c = 0; c < 3; ++c) out[c] = opt.background[c];
+        out[3] = 0;
+      }
     }
   }
 }

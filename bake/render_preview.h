@@ -33,9 +33,10 @@
 //    light casts shadows, and only with RenderOptions::shadows), else 1.
 //  - Shading is done on the colour source's stored values (no colour-space
 //    conversion), like the bake itself.
-//  - Pixels: RGB = mean over the pixel's samples (background colour for
-//    samples that miss), A = fraction of samples that hit the mesh. Pixels the
-//    mesh does not cover have exactly the background RGB and alpha 0.
+//  - Pixels have straight (unassociated) alpha, as PNG stores it: RGB = mean
+//    of the samples that hit the mesh, A = the fraction that hit. Pixels the
+//    mesh does not cover have exactly the background RGB and alpha 0 (so a
+//    viewer that ignores alpha shows the background colour).
 //  - Sampling: samples_per_pixel == 1 shoots through the pixel centre.
 //    Otherwise sample s of pixel p lies in stratum s of an m x m grid over the
 //    pixel (m = ceil(sqrt(spp)), row-major; samples beyond m*m wrap around),
