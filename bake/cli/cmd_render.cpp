@@ -3,6 +3,7 @@
 // Thin: parse -> options -> load -> one render_preview call -> atomic write.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "bake/cli/commands.h"
+#include "bake/cli/geometry_flags.h"
 #include "bake/embree_scene.h"
 #include "bake/parallel.h"
 #include "bake/render_preview.h"
@@ -32,11 +34,12 @@ struct RenderArgs {
   bool shadows = false;
   int samples = 4;
   int threads = 0;
-  std::string up = "z";
   bool flat = false;
   std::vector<float> background;
   ColorChoice colors = ColorChoice::kAuto;
   std::string texture;
+  std::string outside = "clamp";  // --outside clamp | R,G,B[,A]
+  GeometryFlags geometry;
 };
 
 // "WxH" with positive integers.
@@ -50,13 +53,24 @@ std::optional<std::pair<int, int>> parse_size(const std::string& s) {
   return std::make_pair(w, h);
 }
 
-std::optional<Vec3> parse_up(const std::string& s) {
-  static const std::map<std::string, Vec3> kAxes = {{"x", {1, 0, 0}},   {"y", {0, 1, 0}},
-                                                    {"z", {0, 0, 1}},   {"-x", {-1, 0, 0}},
-                                                    {"-y", {0, -1, 0}}, {"-z", {0, 0, -1}}};
-  auto it = kAxes.find(s);
-  if (it == kAxes.end()) return std::nullopt;
-  return it->second;
+// "R,G,B" or "R,G,B,A", each a number in [0, 1]; alpha defaults to 1.
+std::optional<Rgba> parse_color(const std::string& text) {
+  Rgba c{0, 0, 0, 1};
+  std::size_t n = 0, pos = 0;
+  while (n < 4) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string part = text.substr(pos, comma == std::string::npos ? comma : comma - pos);
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !(v >= 0 && v <= 1)) return std::nullopt;
+    c[n++] = static_cast<float>(v);
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  if (n < 3 || pos > text.size() || (n == 4 && text.find(',', pos) != std::string::npos)) {
+    return std::nullopt;
+  }
+  return c;
 }
 
 std::filesystem::path default_output(const std::string& mesh) {
@@ -81,11 +95,36 @@ int run_render(const RenderArgs& args) {
   options.shadows = args.shadows;
   options.samples_per_pixel = args.samples;
   options.smooth_normals = !args.flat;
-  const auto up = parse_up(args.up);
-  if (!up) return report_error(ErrorCode::kInvalidArgument, "--up: expected x, y, z, -x, -y or -z");
-  options.up = *up;
+  options.up = up_direction(args.geometry);
   if (!args.background.empty()) {
     for (int c = 0; c < 3; ++c) options.background[c] = args.background[c];
+  }
+
+  // --texture and --proxy/--proxy-file go together: direct projection.
+  const bool projecting = args.geometry.kind || args.geometry.proxy_file;
+  if (projecting != !args.texture.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        projecting ? "--proxy/--proxy-file needs --texture IMG"
+                                   : "--texture needs --proxy KIND or --proxy-file F");
+  }
+  if (!projecting && (!given_geometry_flags(args.geometry).empty() || args.outside != "clamp")) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "geometry flags and --outside need --texture and --proxy");
+  }
+  std::optional<Rgba> outside;
+  if (args.outside != "clamp") {
+    outside = parse_color(args.outside);
+    if (!outside) {
+      return report_error(
+          ErrorCode::kInvalidArgument,
+          "--outside: expected clamp or R,G,B[,A] in [0, 1], got '" + args.outside + "'");
+    }
+  }
+  std::optional<Proxy> proxy;
+  if (projecting) {
+    auto p = proxy_from_flags(args.geometry);
+    if (!p) return report_error(p.error());
+    proxy = std::move(p).value();
   }
 
   const std::filesystem::path output =
@@ -107,7 +146,13 @@ int run_render(const RenderArgs& args) {
   Image texture;
   const bool has_atlas = mesh.has_uvs() && !mesh.texture_path.empty();
   ColorChoice choice = args.colors;
-  if (choice == ColorChoice::kAuto) {
+  if (proxy) {
+    auto img = read_image(args.texture);
+    if (!img) return report_error(img.error());
+    texture = std::move(img).value();
+    source = ProjectionSource{*proxy, texture.view(), outside};
+    choice = ColorChoice::kNone;  // handled
+  } else if (choice == ColorChoice::kAuto) {
     choice = has_atlas                  ? ColorChoice::kAtlas
              : mesh.has_vertex_colors() ? ColorChoice::kVertex
                                         : ColorChoice::kNone;
@@ -169,9 +214,14 @@ RunFunction add_render_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--up", args->up, "world up axis: x, y, z, -x, -y or -z")
-      ->check(CLI::IsMember({"x", "y", "z", "-x", "-y", "-z"}))
+  cmd->add_option("--texture", args->texture,
+                  "image projected through --proxy/--proxy-file onto every hit (no visibility "
+                  "test): the ground truth a bake is compared with");
+  cmd->add_option("--outside", args->outside,
+                  "points outside the proxy's (u, v) domain: clamp (to the edge texel) or "
+                  "R,G,B[,A] in [0, 1]")
       ->capture_default_str();
+  add_geometry_flags(*cmd, args->geometry);
   cmd->add_flag("--flat", args->flat, "flat shading (geometric normals)");
   cmd->add_option("--background", args->background, "R,G,B background in [0, 1]")
       ->delimiter(',')
