@@ -39,7 +39,8 @@
 //    viewer that ignores alpha shows the background colour).
 //  - Sampling: samples_per_pixel == 1 shoots through the pixel centre.
 //    Otherwise sample s of pixel p lies in stratum s of an m x m grid over the
-//    pixel (m = ceil(sqrt(spp)), row-major; samples beyond m*m wrap around),
+//    pixel (m = ceil(sqrt(spp)), row-major; with spp < m*m the last strata
+//    stay empty),
 //    jittered by a hash of (p, s): the image never depends on the thread count.
 #pragma once
 

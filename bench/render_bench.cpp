@@ -43,10 +43,9 @@ MeshData subdivide(const MeshData& in) {
   out.face_offsets.push_back(0);
   for (const auto& t : in.triangles) {
     const uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
-    for (const std::array<uint32_t, 3>& n : {std::array<uint32_t, 3>{t[0], ab, ca},
-                                             std::array<uint32_t, 3>{ab, t[1], bc},
-                                             std::array<uint32_t, 3>{ca, bc, t[2]},
-                                             std::array<uint32_t, 3>{ab, bc, ca}}) {
+    for (const std::array<uint32_t, 3>& n :
+         {std::array<uint32_t, 3>{t[0], ab, ca}, std::array<uint32_t, 3>{ab, t[1], bc},
+          std::array<uint32_t, 3>{ca, bc, t[2]}, std::array<uint32_t, 3>{ab, bc, ca}}) {
       for (uint32_t v : n) out.face_vertices.push_back(v);
       out.face_offsets.push_back(static_cast<uint32_t>(out.face_vertices.size()));
     }
@@ -92,9 +91,9 @@ void BM_RenderArmadillo(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(f.mesh.triangles.size());
   state.counters["primary_rays"] = static_cast<double>(stats.primary_rays);
   state.counters["shadow_rays"] = static_cast<double>(stats.shadow_rays);
-  state.counters["rays_per_s"] = benchmark::Counter(
-      static_cast<double>(stats.primary_rays + stats.shadow_rays),
-      benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["rays_per_s"] =
+      benchmark::Counter(static_cast<double>(stats.primary_rays + stats.shadow_rays),
+                         benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_RenderArmadillo)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
@@ -176,8 +175,9 @@ void BM_PrimaryRaysRawEmbree(benchmark::State& state) {
   RTCScene scene = rtcNewScene(device);
   rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_MEDIUM);
   RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), f.mesh.vertex_count()));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                        RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                        f.mesh.vertex_count()));
   for (std::size_t i = 0; i < f.mesh.vertex_count(); ++i) {
     v[3 * i] = f.mesh.positions[i].x;
     v[3 * i + 1] = f.mesh.positions[i].y;
