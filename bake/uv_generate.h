@@ -45,7 +45,7 @@ struct UvGenerateOptions {
   double max_chart_angle_deg = 70.0;
   // A chart whose own area-weighted L2 stretch (Sander et al. 2001, normalised
   // so that an isometry gives 1) exceeds this after flattening is split; >= 1.
-  double max_chart_stretch = 1.5;
+  double max_chart_stretch = 1.1;
 };
 
 struct UvAtlas {
