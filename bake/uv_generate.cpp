@@ -1,10 +1,11 @@
 // `--uv generate`: chart growing, chart cutting, packing (see uv_generate.h).
-// Plain C++ and bake/parallel.h; the CGAL flattening lives in
+// Plain C++ and bake/parallel.h; the LSCM solve (Eigen) lives in
 // uv_generate_flatten.cpp.
 //
 // Hand-written rather than a library: Debian ships no UV atlas library
-// (xatlas, UVAtlas are not packaged); CGAL provides the flattening (LSCM),
-// which is the part where a well-kept implementation matters most.
+// (xatlas, UVAtlas are not packaged). CGAL's LSCM parameterizer was used for
+// the flattening until it proved the bottleneck; the same energy is now
+// solved directly with Eigen's sparse Cholesky (see uv_generate_flatten.cpp).
 #include "bake/uv_generate.h"
 
 #include <algorithm>
@@ -13,10 +14,6 @@
 #include <numeric>
 #include <queue>
 #include <string>
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
-#include <ctime>
 
 #include "bake/parallel.h"
 #include "bake/uv_generate_internal.h"
@@ -30,7 +27,7 @@ using uv_detail::FlattenStatus;
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 constexpr int kMaxAtlasSize = 16384;
-constexpr std::size_t kMaxSolveTriangles = 32768;
+constexpr std::size_t kMaxSolveTriangles = 65536;
 
 struct Vec2 {
   double x = 0, y = 0;
@@ -394,6 +391,15 @@ class ChartCutter {
   }
 
   void flatten_or_split(std::vector<uint32_t> tris, std::vector<FlatChart>& out) {
+    // The sparse solve grows faster than linearly with the chart and a failed
+    // check would waste it: very large charts are halved before anything else
+    // (welding and cutting them first would be thrown away too).
+    if (tris.size() > kMaxSolveTriangles) {
+      auto [a, b] = split(tris);
+      process(std::move(a), out);
+      process(std::move(b), out);
+      return;
+    }
     std::vector<std::pair<uint32_t, uint32_t>> border;
     std::vector<uint32_t> cuts;
     FlatChart fc = weld(tris, border, cuts);
@@ -417,22 +423,12 @@ class ChartCutter {
         break;
       fc = weld(tris, border, cuts);
     }
-    // The sparse solve grows faster than linearly with the chart and a failed
-    // check would waste it: very large charts are halved before solving.
-    if (tris.size() > kMaxSolveTriangles) {
-      auto [a, b] = split(tris);
-      process(std::move(a), out);
-      process(std::move(b), out);
-      return;
-    }
     if (tris.size() == 1) {
       flatten_single(fc);
       out.push_back(std::move(fc));
       return;
     }
-    const bool fl = disk && flatten(fc, border);
-    if (std::getenv("TEXBAKE_UV_TIMING") && !fl) std::fprintf(stderr, "    chart %zu tris disk %d flatten failed\n", tris.size(), disk);
-    if (fl && valid(fc, border)) {
+    if (disk && flatten(fc, border) && valid(fc, border)) {
       out.push_back(std::move(fc));
       return;
     }
@@ -613,10 +609,7 @@ class ChartCutter {
     cm.fixed1 = use_u ? umax : vmax;
     if (cm.fixed0 == cm.fixed1) return false;
     std::vector<double> uv;
-    const auto ts = std::chrono::steady_clock::now();
-    const bool solved = uv_detail::flatten_lscm(cm, uv) == FlattenStatus::kOk;
-    if (std::getenv("TEXBAKE_UV_TIMING")) std::fprintf(stderr, "    solve %zu verts %.1f ms\n", nloc, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ts).count());
-    if (!solved) return false;
+    if (uv_detail::flatten_lscm(cm, uv) != FlattenStatus::kOk) return false;
     for (uint32_t l = 0; l < nloc; ++l) fc.uv[l] = {uv[2 * l], uv[2 * l + 1]};
     return true;
   }
@@ -644,7 +637,6 @@ class ChartCutter {
       stretch_sum += triangle_l2_squared(tris[fc.tris[i]], fc.uv[c[0]], fc.uv[c[1]], fc.uv[c[2]]) *
                      g_.area[fc.tris[i]];
     }
-    if (std::getenv("TEXBAKE_UV_TIMING")) std::fprintf(stderr, "    chart %zu tris stretch %.3f\n", fc.tris.size(), std::sqrt(stretch_sum / fc.area3d));
     if (std::sqrt(stretch_sum / fc.area3d) > max_stretch_) return false;
     if (border_crosses_itself(fc, border)) return false;
     return true;
@@ -1053,7 +1045,8 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
     }
     if (stride > 1 && best.score != std::numeric_limits<long>::max()) {
       const Profile& p = profiles[best.rot];
-      const int x0 = std::max(0, best.x - stride + 1), x1 = std::min(size - p.w, best.x + stride - 1);
+      const int x0 = std::max(0, best.x - stride + 1),
+                x1 = std::min(size - p.w, best.x + stride - 1);
       for (int x = x0; x <= x1; ++x) {
         if (x == best.x) continue;
         const int y = lowest(p, x, best.score);
@@ -1115,16 +1108,6 @@ Status validate(const MeshData& mesh, const UvGenerateOptions& o) {
 
 Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOptions& options) {
   if (Status st = validate(mesh, options); !st) return st.error();
-  const bool dbg = std::getenv("TEXBAKE_UV_TIMING") != nullptr;  // TEMP
-  auto cpu_now = [] { timespec ts; clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts); return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6; };
-  auto t_last = std::chrono::steady_clock::now();
-  double c_last = cpu_now();
-  auto lap = [&](const char* what) {
-    const auto now = std::chrono::steady_clock::now();
-    const double c = cpu_now();
-    if (dbg) std::fprintf(stderr, "  %-10s %7.1f ms wall %7.1f ms cpu\n", what, std::chrono::duration<double, std::milli>(now - t_last).count(), c - c_last);
-    t_last = now; c_last = c;
-  };
   const Geometry g = build_geometry(mesh);
   const std::size_t n = mesh.triangles.size();
   double total_area = 0;
@@ -1143,7 +1126,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   // Charts below ~1/2000 of the surface cost more gutter than they save stretch.
   merge_small_charts(g, chart, chart_count, total_area * 5e-4);
 
-  lap("charts");
   // 2. Cut and flatten, one task per chart (charts' triangles are disjoint).
   std::vector<std::vector<uint32_t>> members(chart_count);
   for (uint32_t t = 0; t < n; ++t) members[chart[t]].push_back(t);
@@ -1171,7 +1153,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   }
   pieces.clear();
 
-  lap("flatten");
   // 3. Pack: bisection on the global scale (texels per unit length).
   const int size = options.atlas_size;
   const int padding = options.padding;
@@ -1206,6 +1187,7 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   // Start: charts covering about 70 % of the atlas (UV area = 3D area).
   double scale = std::sqrt(0.7 * size * static_cast<double>(size) / total_area);
   if (max_extent > 0) scale = std::min(scale, (size - 1) / max_extent);
+  int probes = 0;
   for (int round = 0; round < 40; ++round) {
     parallel_for_chunks(charts.size(), 8, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) rasters[i] = rasterize_chart(charts[i], scale);
@@ -1219,9 +1201,17 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
     } else {
       hi = scale;
     }
-    if (dbg) std::fprintf(stderr, "    pack scale %.6g used %d\n", scale, used);
-    if (hi / lo < 1.005 || (lo > 0 && round >= 5)) break;
-    double next = used > 0 ? scale * std::sqrt(static_cast<double>(size) / used) : scale / kOverflow;
+    if (lo > 0 && round >= 5) break;
+    // The packed height is not monotonic in the scale (a slightly larger
+    // chart can land in a better hole), so once the bracket is tight a few
+    // probes just above the best fitting scale are still worth a pack.
+    if (hi / lo < 1.005) {
+      if (probes == 2) break;
+      scale = lo * (1.0 + 0.004 * ++probes);
+      continue;
+    }
+    double next =
+        used > 0 ? scale * std::sqrt(static_cast<double>(size) / used) : scale / kOverflow;
     if (used > 0 && used <= size) next *= 1.002;  // a pack that fits exactly: still try a bit more
     if (lo > 0 && hi < std::numeric_limits<double>::infinity()) {
       // Inside the bracket, at least a quarter of the way from either end.
@@ -1245,24 +1235,6 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
                                                    std::to_string(padding) + " texel gutter");
   }
 
-  lap("pack");
-  if (dbg) {
-    double cov = 0, prof = 0, box = 0, dil = 0;
-    for (std::size_t i = 0; i < charts.size(); ++i) {
-      const ChartRaster& r = best_rasters[i];
-      cov += r.covered; box += double(r.w) * r.h;
-      Profile p = profile(r, 0);
-      for (int c = 0; c < p.w; ++c) prof += p.top[c] - p.bottom[c] + 1;
-      // dilate by padding/2 each side
-      std::vector<uint8_t> d(size_t(r.w + padding) * (r.h + padding), 0);
-      int hp = padding / 2;
-      for (int j = 0; j < r.h; ++j) for (int i2 = 0; i2 < r.w; ++i2) if (r.bits[size_t(j) * r.w + i2])
-        for (int dj = -hp; dj <= hp; ++dj) for (int di = -hp; di <= hp; ++di) d[size_t(j + dj + hp) * (r.w + padding) + i2 + di + hp] = 1;
-      for (auto b : d) dil += b;
-    }
-    const double A = double(size) * size;
-    std::fprintf(stderr, "  charts %zu covered %.3f profile %.3f box %.3f dilated(p/2) %.3f\n", charts.size(), cov / A, prof / A, box / A, dil / A);
-  }
   // 4. Output.
   UvAtlas atlas;
   atlas.atlas_size = size;

@@ -67,7 +67,8 @@ FlattenStatus flatten_lscm(const ChartMesh& chart, std::vector<double>& uv) {
       // A triangle degenerate in 3D would give an infinite cotangent; the
       // floor keeps the system finite (the caller rejects a map that squeezes
       // a triangle to nothing and splits the chart).
-      const double cross = std::max(std::sqrt(cx * cx + cy * cy + cz * cz), 1e-10 * std::sqrt(l1 * l2));
+      const double cross =
+          std::max(std::sqrt(cx * cx + cy * cy + cz * cz), 1e-10 * std::sqrt(l1 * l2));
       if (!(cross > 0)) return FlattenStatus::kSolveFailed;
       const double w = 0.5 * dot / cross;  // half the cotangent at corner o, for edge (i, j)
       for (std::size_t d = 0; d < 2; ++d) {

@@ -14,13 +14,13 @@ namespace texbake::uv_detail {
 // chart's triangles welded across the chart's manifold, consistently oriented
 // edges) and faces in the mesh's winding order.
 struct ChartMesh {
-  std::vector<double> positions;                // x, y, z per local vertex
-  std::vector<std::array<uint32_t, 3>> faces;   // local vertex indices
+  std::vector<double> positions;               // x, y, z per local vertex
+  std::vector<std::array<uint32_t, 3>> faces;  // local vertex indices
   // Border edges (i, j) in face winding order: every edge of a face that no
   // other face of the chart shares.
   std::vector<std::pair<uint32_t, uint32_t>> border;
-  std::vector<double> initial_uv;               // u, v per local vertex (only fixed0/1 are used)
-  uint32_t fixed0 = 0, fixed1 = 0;              // locked at their initial_uv (LSCM needs two)
+  std::vector<double> initial_uv;   // u, v per local vertex (only fixed0/1 are used)
+  uint32_t fixed0 = 0, fixed1 = 0;  // locked at their initial_uv (LSCM needs two)
 };
 
 enum class FlattenStatus {
