@@ -248,10 +248,21 @@ RunFunction add_render_command(CLI::App& app) {
                                                       {"vertex", ColorChoice::kVertex},
                                                       {"atlas", ColorChoice::kAtlas},
                                                       {"none", ColorChoice::kNone}};
-  cmd->add_option("--colors", args->colors,
-                  "colour source without --texture: auto (atlas, else vertex colours, else "
-                  "grey), vertex, atlas or none")
-      ->transform(CLI::CheckedTransformer(kColors, CLI::ignore_case));
+  // Strict names (CLI::CheckedTransformer would also accept the enum's
+  // integer values and list them in --help).
+  cmd->add_option_function<std::string>(
+         "--colors",
+         [args, kColors](const std::string& value) {
+           const auto it = kColors.find(value);
+           if (it == kColors.end()) {
+             throw CLI::ValidationError("--colors", "unknown value '" + value +
+                                                        "' (expected auto, vertex, atlas or none)");
+           }
+           args->colors = it->second;
+         },
+         "colour source without --texture: auto (atlas, else vertex colours, else grey), "
+         "vertex, atlas or none")
+      ->type_name("auto|vertex|atlas|none");
   return [args] {
     if (!args->view.empty() && !(args->view[1] >= -90 && args->view[1] <= 90)) {
       return report_error(ErrorCode::kInvalidArgument,

@@ -79,12 +79,31 @@ class BakeFitCli : public ::testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
+
+  // A small smooth test image (64 x 32: red ramps in u, green in v), so the
+  // many runs below do not spend their time decoding a large map.
+  fs::path ramp() const {
+    const fs::path path = dir_ / "ramp.png";
+    if (fs::exists(path)) return path;
+    Image img;
+    img.width = 64;
+    img.height = 32;
+    img.pixels.resize(std::size_t(64) * 32 * 4);
+    for (int y = 0; y < 32; ++y) {
+      for (int x = 0; x < 64; ++x) {
+        float* p = &img.pixels[(std::size_t(y) * 64 + x) * 4];
+        p[0] = x / 63.f, p[1] = y / 31.f, p[2] = 0.5f, p[3] = 1;
+      }
+    }
+    EXPECT_TRUE(write_image(path, img.view()));
+    return path;
+  }
   fs::path dir_;
 };
 
 TEST_F(BakeFitCli, AFittedBakeEqualsABakeWithTheFittedParametersGiven) {
   const std::string mesh = q(kData / "elephant.off");
-  const std::string tex = " --texture " + q(kData / "earth.jpg");
+  const std::string tex = " --texture " + q(ramp());
   for (const char* kind : {"sphere", "cylinder", "disk", "quad", "plane"}) {
     SCOPED_TRACE(kind);
     const fs::path json = dir_ / (std::string(kind) + ".json");
@@ -108,7 +127,7 @@ TEST_F(BakeFitCli, AFittedBakeEqualsABakeWithTheFittedParametersGiven) {
 
 TEST_F(BakeFitCli, AFittedAtlasBakeEqualsTheBakeFromTheProxyFile) {
   const std::string mesh = q(kData / "suzanne_uv.obj");
-  const std::string tex = " --texture " + q(kData / "earth.jpg") + " --size 64 -q";
+  const std::string tex = " --texture " + q(ramp()) + " --size 64 -q";
   const fs::path json = dir_ / "cyl.json";
   ASSERT_EQ(run("fit " + mesh + " --proxy cylinder -o " + q(json)).exit_code, 0);
   ASSERT_EQ(run("bake " + mesh + tex + " --proxy cylinder -o " + q(dir_ / "a.obj")).exit_code, 0);
@@ -203,7 +222,7 @@ TEST_F(BakeFitCli, AGivenBaseIsTheAxisLineAndTheHeightReachesTheTopFromIt) {
 
 TEST_F(BakeFitCli, RenderFitsMissingGeometryLikeBake) {
   const std::string mesh = q(kData / "elephant.off");
-  const std::string tex = " --texture " + q(kData / "earth.jpg") + " --size 48x48 --samples 1";
+  const std::string tex = " --texture " + q(ramp()) + " --size 48x48 --samples 1";
   const fs::path json = dir_ / "s.json";
   ASSERT_EQ(run("fit " + mesh + " --proxy sphere -o " + q(json)).exit_code, 0);
   const RunResult a = run("render " + mesh + tex + " --proxy sphere -o " + q(dir_ / "a.png"));
