@@ -110,7 +110,11 @@ int run_render(const RenderArgs& args) {
                         projecting ? "--proxy/--proxy-file needs --texture IMG"
                                    : "--texture needs --proxy KIND or --proxy-file F");
   }
-  if (!projecting && (!given_geometry_flags(args.geometry).empty() || args.outside != "clamp")) {
+  // --up also orients the camera, so it is the one geometry flag allowed
+  // without a projection.
+  std::vector<std::string> geometry = given_geometry_flags(args.geometry);
+  std::erase(geometry, std::string("--up"));
+  if (!projecting && (!geometry.empty() || args.outside != "clamp")) {
     return report_error(ErrorCode::kInvalidArgument,
                         "geometry flags and --outside need --texture and --proxy");
   }
