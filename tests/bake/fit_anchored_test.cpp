@@ -65,8 +65,8 @@ std::vector<Float3> cone_points(Vec3 apex, Vec3 axis, double radius, double heig
       const double a = 2 * kPi * (i + u01(rng)) / 120;
       Vec3 d{g(rng), g(rng), g(rng)};
       d = normalize(d) * (noise * std::cbrt(u01(rng)));
-      p.push_back(f3(apex - axis * t + (e1 * std::cos(a) + e2 * std::sin(a)) * (radius * t / height) +
-                     d));
+      p.push_back(
+          f3(apex - axis * t + (e1 * std::cos(a) + e2 * std::sin(a)) * (radius * t / height) + d));
     }
   }
   return p;
@@ -143,7 +143,7 @@ TEST(FitAnchored, ConeThroughAGivenApexFitsTheGeneratorThroughIt) {
   EXPECT_EQ(c->apex.x, 1);
   EXPECT_EQ(c->apex.z, 3);
   EXPECT_LT(degrees_between(c->axis, axis), 1.0);
-  EXPECT_NEAR(c->height, 3, 0.03);   // the points' extent below the apex (+ noise)
+  EXPECT_NEAR(c->height, 3, 0.03);  // the points' extent below the apex (+ noise)
   EXPECT_NEAR(c->radius / c->height, 2.0 / 3, 0.01);
   // A given height moves the base plane along the generator: radius = slope * height.
   o.height = 6;

@@ -161,8 +161,8 @@ TEST_F(BakeAtlasCli, ObjOutputWritesMtlAndPngBesideItMatchingTheImage) {
     for (int x = 0; x < 64; ++x) {
       const double u = (x + 0.5) / 64;
       const float* p = &atlas->pixels[(std::size_t(y) * 64 + x) * 4];
-      const double e = std::max({std::abs(p[0] - red_at(u)), std::abs(p[1] - green_at(v)),
-                                 std::abs(p[2] - 0.25f)});
+      const double e = std::max(
+          {std::abs(p[0] - red_at(u)), std::abs(p[1] - green_at(v)), std::abs(p[2] - 0.25f)});
       sum += e;
       worst = std::max(worst, e);
       far += e > 0.03;
@@ -307,9 +307,9 @@ TEST_F(BakeAtlasCli, UvsOutsideTheUnitSquareAreWarnedAboutWithCounts) {
 
 TEST_F(BakeAtlasCli, ReportHoldsTheAtlasObjectCountsAndTimings) {
   const fs::path report = dir_ / "r.json";
-  const RunResult r = testing_cli::run_texbake(sphere_bake(dir_ / "o.glb") +
-                                               " --size 32 --samples 2 --padding inf -q --report " +
-                                               q(report));
+  const RunResult r =
+      testing_cli::run_texbake(sphere_bake(dir_ / "o.glb") +
+                               " --size 32 --samples 2 --padding inf -q --report " + q(report));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(slurp(report));
   EXPECT_EQ(j.at("target"), "atlas");

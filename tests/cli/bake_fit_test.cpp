@@ -131,9 +131,9 @@ TEST_F(BakeFitCli, AFittedAtlasBakeEqualsTheBakeFromTheProxyFile) {
   const fs::path json = dir_ / "cyl.json";
   ASSERT_EQ(run("fit " + mesh + " --proxy cylinder -o " + q(json)).exit_code, 0);
   ASSERT_EQ(run("bake " + mesh + tex + " --proxy cylinder -o " + q(dir_ / "a.obj")).exit_code, 0);
-  ASSERT_EQ(run("bake " + mesh + tex + " --proxy-file " + q(json) + " -o " + q(dir_ / "b.obj"))
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      run("bake " + mesh + tex + " --proxy-file " + q(json) + " -o " + q(dir_ / "b.obj")).exit_code,
+      0);
   const std::string png = slurp(dir_ / "a.png");
   EXPECT_GT(png.size(), 100u);
   EXPECT_TRUE(png == slurp(dir_ / "b.png"));
@@ -189,8 +189,8 @@ TEST_F(BakeFitCli, AGivenBaseIsTheAxisLineAndTheHeightReachesTheTopFromIt) {
     for (int k = 0; k < 2; ++k) {
       for (int i = 0; i < kSeg; ++i) {
         const double a = 2 * 3.14159265358979323846 * i / kSeg;
-        std::snprintf(line, sizeof line, "%.9g %.9g %d\n", 1 + 2 * std::cos(a),
-                      1 + 2 * std::sin(a), 3 * k);
+        std::snprintf(line, sizeof line, "%.9g %.9g %d\n", 1 + 2 * std::cos(a), 1 + 2 * std::sin(a),
+                      3 * k);
         off << line;
       }
     }
@@ -215,8 +215,7 @@ TEST_F(BakeFitCli, AGivenBaseIsTheAxisLineAndTheHeightReachesTheTopFromIt) {
   const RunResult b = run("bake " + q(mesh) + " --texture " + q(dir_ / "red.png") +
                           " --proxy cylinder --base 1,1,-1 --axis 0,0,1 -o " + q(dir_ / "t.ply"));
   ASSERT_EQ(b.exit_code, 0) << b.err;
-  EXPECT_NE(b.err.find("texbake: fitted cylinder (--equator --radius --height)"),
-            std::string::npos)
+  EXPECT_NE(b.err.find("texbake: fitted cylinder (--equator --radius --height)"), std::string::npos)
       << b.err;
 }
 
