@@ -22,6 +22,7 @@
 
 #include "bake/bake_vertex.h"
 #include "bake/cli/atlas_target.h"
+#include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
 #include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
@@ -116,33 +117,6 @@ void add_keyword_or_color(CLI::App& cmd, const std::string& flag, KeywordOrColor
          help)
       ->type_name(keywords.size() == 1 ? keywords[0] + "|R,G,B[,A]"
                                        : keywords[0] + "|" + keywords[1] + "|R,G,B[,A]");
-}
-
-// Adds --flag mapping exactly one of the names in `names` to its enum value.
-// (Not CLI::CheckedTransformer: CLI11 2.1's also accepts the enum's integer
-// values, e.g. "--filter 1", and its message lists the integers.)
-template <class T>
-void add_enum_option(CLI::App& cmd, const std::string& flag, T& target,
-                     const std::vector<std::pair<std::string, T>>& names, const std::string& help) {
-  std::string expected, type_name;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    expected += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + names[i].first;
-    type_name += (i == 0 ? "" : "|") + names[i].first;
-  }
-  cmd.add_option_function<std::string>(
-         flag,
-         [&target, flag, names, expected](const std::string& value) {
-           for (const auto& [name, v] : names) {
-             if (value == name) {
-               target = v;
-               return;
-             }
-           }
-           throw CLI::ValidationError(flag,
-                                      "unknown value '" + value + "' (expected " + expected + ")");
-         },
-         help)
-      ->type_name(type_name);
 }
 
 std::string lower_extension(const fs::path& path) {
@@ -394,26 +368,26 @@ RunFunction add_bake_command(CLI::App& app) {
   add_atlas_flags(*cmd, o->atlas);
   cmd->add_flag("--ascii", o->ascii, "vertex target, .ply: ASCII instead of binary little-endian");
 
-  add_enum_option(*cmd, "--filter", o->filter,
-                  {{"bilinear", VertexFilter::kBilinear}, {"area", VertexFilter::kArea}},
-                  "vertex target: bilinear (sample at the vertex) or area (average over the "
-                  "vertex's share of its triangles, default)");
+  add_choice_option(*cmd, "--filter", o->filter,
+                    {{"bilinear", VertexFilter::kBilinear}, {"area", VertexFilter::kArea}},
+                    "vertex target: bilinear (sample at the vertex) or area (average over the "
+                    "vertex's share of its triangles, default)");
   cmd->add_option_function<int>(
          "--samples", [o](int n) { o->samples = n; },
          "vertex: samples per vertex for --filter area (default 16, 1..65536); atlas: "
          "supersamples per texel (default 4, 1..256)")
       ->check(CLI::Range(1, 65536));
 
-  add_enum_option(*cmd, "--visibility", o->visibility,
-                  {{"first", Visibility::kFirst}, {"all", Visibility::kAll}},
-                  "first: only what the projector sees is coloured (default); all: no test");
+  add_choice_option(*cmd, "--visibility", o->visibility,
+                    {{"first", Visibility::kFirst}, {"all", Visibility::kAll}},
+                    "first: only what the projector sees is coloured (default); all: no test");
   add_keyword_or_color(*cmd, "--occluded", o->occluded, {"fill", "project"},
                        "occluded points: fill (smooth from visible neighbours, default), "
                        "project (projected colour anyway) or a colour R,G,B[,A] in [0,1]");
   add_keyword_or_color(*cmd, "--outside", o->outside, {"clamp"},
                        "points outside the proxy's (u,v) domain: clamp (edge texel, default) "
                        "or a colour R,G,B[,A] in [0,1]");
-  add_enum_option<std::optional<WrapMode>>(
+  add_choice_option<std::optional<WrapMode>>(
       *cmd, "--wrap", o->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
       "plane proxy only: clamp (default) or repeat (tile)");
   cmd->add_flag("--linear", o->linear, "interpolate and average in linear light (sRGB image)");

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
 #include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
@@ -248,25 +249,14 @@ RunFunction add_render_command(CLI::App& app) {
       ->delimiter(',')
       ->expected(3)
       ->check(CLI::Range(0.0, 1.0));
-  const std::map<std::string, ColorChoice> kColors = {{"auto", ColorChoice::kAuto},
-                                                      {"vertex", ColorChoice::kVertex},
-                                                      {"atlas", ColorChoice::kAtlas},
-                                                      {"none", ColorChoice::kNone}};
-  // Strict names (CLI::CheckedTransformer would also accept the enum's
-  // integer values and list them in --help).
-  cmd->add_option_function<std::string>(
-         "--colors",
-         [args, kColors](const std::string& value) {
-           const auto it = kColors.find(value);
-           if (it == kColors.end()) {
-             throw CLI::ValidationError("--colors", "unknown value '" + value +
-                                                        "' (expected auto, vertex, atlas or none)");
-           }
-           args->colors = it->second;
-         },
-         "colour source without --texture: auto (atlas, else vertex colours, else grey), "
-         "vertex, atlas or none")
-      ->type_name("auto|vertex|atlas|none");
+  add_choice_option<ColorChoice>(
+      *cmd, "--colors", args->colors,
+      {{"auto", ColorChoice::kAuto},
+       {"vertex", ColorChoice::kVertex},
+       {"atlas", ColorChoice::kAtlas},
+       {"none", ColorChoice::kNone}},
+      "colour source without --texture: auto (atlas, else vertex colours, "
+      "else grey), vertex, atlas or none");
   return [args] {
     if (!args->view.empty() && !(args->view[1] >= -90 && args->view[1] <= 90)) {
       return report_error(ErrorCode::kInvalidArgument,
