@@ -17,8 +17,10 @@
 #include <numbers>
 #include <string>
 
+#include "bake/bake_vertex.h"
 #include "bake/embree_scene.h"
 #include "bake/render_preview.h"
+#include "bunny_earth.h"
 #include "mesh_io/image_compare.h"
 #include "mesh_io/image_io.h"
 
@@ -117,6 +119,43 @@ TEST(RenderGolden, SphereWithDirectProjection) {
                             ProjectionSource{*proxy, ImageView{64, 32, texels.data()}, {}}, o);
   ASSERT_TRUE(img.has_value()) << img.error().message;
   expect_matches_golden(img->view(), "sphere_projection.png");
+}
+
+// The demo's bake (scripts/demo.sh): the Earth map through a sphere proxy
+// (pole +y) onto the bunny per vertex, default options (area filter,
+// visibility first, occluded vertices filled).
+TEST(RenderGolden, BunnyWithBakedVertexColors) {
+  const test::BunnyEarth* be = test::bunny_earth();
+  ASSERT_NE(be, nullptr);
+  auto baked = bake_vertex(be->mesh, be->earth.view(), be->proxy, VertexBakeOptions{});
+  ASSERT_TRUE(baked.has_value()) << baked.error().message;
+  MeshData mesh = be->mesh;
+  mesh.vertex_colors = std::move(baked->colors);
+  auto scene = EmbreeScene::build(mesh, BuildQuality::kMedium);
+  ASSERT_TRUE(scene.has_value()) << scene.error().message;
+  auto img = render_preview(mesh, *scene, VertexColorSource{}, test::bunny_view(128, 4));
+  ASSERT_TRUE(img.has_value()) << img.error().message;
+  expect_matches_golden(img->view(), "bunny_vertex.png");
+}
+
+// The same projection baked into a 512 atlas over generated UVs (--uv
+// generate), default options, rendered through the atlas.
+TEST(RenderGolden, BunnyWithBakedAtlas) {
+  const test::BunnyEarth* be = test::bunny_earth();
+  ASSERT_NE(be, nullptr);
+  constexpr int kSize = 512;
+  auto mesh = test::bunny_with_generated_uvs(be->mesh, kSize);
+  ASSERT_TRUE(mesh.has_value()) << mesh.error().message;
+  AtlasBakeOptions ao;
+  ao.size = kSize;
+  auto baked = bake_atlas(*mesh, be->earth.view(), be->proxy, ao);
+  ASSERT_TRUE(baked.has_value()) << baked.error().message;
+  auto scene = EmbreeScene::build(*mesh, BuildQuality::kMedium);
+  ASSERT_TRUE(scene.has_value()) << scene.error().message;
+  auto img =
+      render_preview(*mesh, *scene, AtlasSource{baked->atlas.view()}, test::bunny_view(128, 4));
+  ASSERT_TRUE(img.has_value()) << img.error().message;
+  expect_matches_golden(img->view(), "bunny_atlas.png");
 }
 
 }  // namespace
