@@ -1,10 +1,17 @@
 // Golden images: renders compared with committed PNGs in tests/golden/.
 //
-// Tolerance: PSNR >= 40 dB over all pixels and channels (values in [0, 1]).
+// Tolerance: PSNR >= 40 dB over all channels (values in [0, 1]) of the
+// pixels that are mesh in either image (background in both is masked out,
+// so a small mesh in a large frame is not diluted by identical background).
 // 8-bit quantisation alone costs about 59 dB, so 40 dB leaves room for
 // compiler, Embree and libm differences (a BVH that splits a tie the other
 // way changes an edge pixel) while any real change of camera, shading,
 // sampling or mapping (which moves many pixels by many levels) fails.
+// Measured on the bunny (view 120,20, 128 x 128): a generated UV layout for a
+// different atlas size (500, 640, 1024 instead of 512) stays at 45-49 dB, so
+// a change of the packer alone does not break the atlas golden; the vertex
+// bake against the atlas bake gives 37 dB, direct projection (no visibility)
+// against the visibility-first atlas bake 25.5 dB.
 //
 // Regenerate after an intended change (then look at the images and commit):
 //   TEXBAKE_UPDATE_GOLDEN=1 build-dev/test_bake --gtest_filter='RenderGolden*'
@@ -47,7 +54,9 @@ void expect_matches_golden(const ImageView& image, const std::string& name) {
   const auto rendered = std::filesystem::temp_directory_path() /
                         ("texbake_golden_" + std::to_string(::getpid()) + "_" + name);
   ASSERT_TRUE(write_image(rendered, image).has_value());
-  auto r = compare_image_files(rendered, path, CompareOptions{});
+  CompareOptions options;
+  options.mask_background = true;
+  auto r = compare_image_files(rendered, path, options);
   std::filesystem::remove(rendered);
   ASSERT_TRUE(r.has_value()) << r.error().message;
   EXPECT_GE(r->psnr, kMinPsnr) << name << ": max difference " << r->max_difference << " at ("
