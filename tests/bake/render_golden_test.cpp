@@ -59,6 +59,7 @@ void expect_matches_golden(const ImageView& image, const std::string& name) {
   auto r = compare_image_files(rendered, path, options);
   std::filesystem::remove(rendered);
   ASSERT_TRUE(r.has_value()) << r.error().message;
+  std::printf("%s: PSNR %.2f dB against the golden image\n", name.c_str(), r->psnr);
   EXPECT_GE(r->psnr, kMinPsnr) << name << ": max difference " << r->max_difference << " at ("
                                << r->max_x << ", " << r->max_y << ")";
 }
