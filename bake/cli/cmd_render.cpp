@@ -107,7 +107,10 @@ int run_render(const RenderArgs& args) {
                         projecting ? "--proxy/--proxy-file needs --texture IMG"
                                    : "--texture needs --proxy KIND or --proxy-file F");
   }
-  if (!projecting && (!given_geometry_flags(args.geometry).empty() || args.outside != "clamp")) {
+  // --up alone is the render's world up (bake/render_preview.h), not geometry.
+  std::vector<std::string> geometry_given = given_geometry_flags(args.geometry);
+  std::erase(geometry_given, std::string("--up"));
+  if (!projecting && (!geometry_given.empty() || args.outside != "clamp")) {
     return report_error(ErrorCode::kInvalidArgument,
                         "geometry flags and --outside need --texture and --proxy");
   }
