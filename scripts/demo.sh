@@ -57,6 +57,24 @@ demo_bake_atlas_bunny() {
   echo
 }
 
+demo_render_previews() {
+  # A contact sheet of four views around each bake, beside it in out/
+  # (texbake render: Embree ray tracing, Phong shading; the bunny is y up).
+  # Look at these before trusting a bake: north up, no seams, no black spots.
+  local out="$TEXBAKE_ROOT/out"
+  echo "== Previews: four views of each bake (texbake render --views 4) =="
+  local mesh
+  for mesh in "$out/bunny_earth.ply" "$out/bunny_atlas.obj"; do
+    local png="${mesh%.*}_preview.png"
+    local args=(render "$mesh" --up y --views 4 --size 512x512 -o "$png")
+    echo "\$ texbake ${args[*]}"
+    "$texbake" "${args[@]}"
+    echo "   wrote $png (2 x 2 views, transparent background)"
+  done
+  echo
+}
+
 demo_worked_example
 demo_bake_earth_bunny
 demo_bake_atlas_bunny
+demo_render_previews
