@@ -41,6 +41,21 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Work limits for small hostile files (issue #7: no small input may run for
+// minutes). A polygon may have at most kMaxFaceCorners corners: OpenMesh's
+// OBJ reader removes repeated corners in O(n^2) per face (a 2 MB line of
+// "1 1 1 ..." would take minutes). Real meshes' largest polygons (caps of
+// scanned or CAD cylinders) have hundreds to a few thousand corners.
+// Non-convex polygons above kMaxEarClipCorners are fanned instead of ear
+// clipped (ear clipping is O(n^3) in the worst case).
+constexpr std::size_t kMaxFaceCorners = 16384;
+constexpr uint32_t kMaxEarClipCorners = 512;
+
+std::string too_many_corners(std::size_t n) {
+  return "has " + std::to_string(n) + " corners; texbake reads polygons of at most " +
+         std::to_string(kMaxFaceCorners);
+}
+
 Error parse_error(const fs::path& path, const std::string& what) {
   return make_error(ErrorCode::kParse, path.string() + ": " + what);
 }
@@ -125,7 +140,7 @@ void triangulate_polygon(const MeshData& mesh, uint32_t first, uint32_t n,
   for (uint32_t i = 0; i < n && convex; ++i) {
     if (cross2(i, (i + 1) % n, (i + 2) % n) < 0) convex = false;
   }
-  if (convex) {
+  if (convex || n > kMaxEarClipCorners) {
     for (uint32_t i = 1; i + 1 < n; ++i) out.push_back({first, first + i, first + i + 1});
     return;
   }
@@ -604,6 +619,7 @@ Expected<std::size_t> check_obj(const fs::path& path, std::string_view text) {
       }
     }
     if (t[0] != "f") return true;
+    if (t.size() - 1 > kMaxFaceCorners) return fail(no, "face " + too_many_corners(t.size() - 1));
     for (std::size_t i = 1; i < t.size(); ++i) {
       const std::string_view corner = t[i];
       std::string_view part[3];
@@ -716,6 +732,8 @@ Status check_off_binary(const fs::path& path, std::string_view bytes, const OffK
       return parse_error(path, "truncated binary OFF: ends in face " + std::to_string(f));
     const unsigned long long n = load_le32(bytes.data() + pos);
     pos += 4;
+    if (n > kMaxFaceCorners)
+      return parse_error(path, "face " + std::to_string(f) + " " + too_many_corners(n));
     if (n * 4 > left()) {
       return parse_error(path, "truncated binary OFF: face " + std::to_string(f) + " declares " +
                                    std::to_string(n) + " corners, the file ends first");
@@ -830,6 +848,7 @@ Expected<MeshData> read_off_ascii(const fs::path& path, std::string_view text) {
     if (!parse_int(t[0], n) || n + 1 > t.size()) {
       return parse_error(path, at() + "face has fewer indices than its count");
     }
+    if (n > kMaxFaceCorners) return parse_error(path, at() + "face " + too_many_corners(n));
     for (unsigned long long c = 1; c <= n; ++c) {
       unsigned long long idx = 0;
       if (!parse_int(t[c], idx) || idx >= nv) {
@@ -1021,8 +1040,7 @@ Expected<PlyHeader> parse_ply_header(const fs::path& path, std::string_view byte
       have_format = true;
     } else if (t[0] == "element") {
       unsigned long long count = 0;
-      if (t.size() != 3 ||
-          std::from_chars(t[2].data(), t[2].data() + t[2].size(), count).ec != std::errc() ||
+      if (t.size() != 3 || !parse_int(t[2], count) ||
           count > std::numeric_limits<uint32_t>::max()) {
         return parse_error(path, at + "bad element line '" + std::string(line) + "'");
       }
@@ -1236,6 +1254,9 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
   const char* p = bytes.data() + s.header.data_offset;
   const char* end = bytes.data() + bytes.size();
   for (const PlyElement& e : s.header.elements) {
+    // Nothing to read (and a huge count must not cost a loop: the fuzzer
+    // found "element x 1899460386" without properties running for minutes).
+    if (e.properties.empty()) continue;
     const bool is_vertex = &e == s.vertex_element;
     const bool is_face = &e == s.face_element;
     // Fixed-size records (no lists): one bounds check per element.
@@ -1283,6 +1304,8 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
           return parse_error(s.path,
                              e.name + " " + std::to_string(i) + " has a negative list length");
         const std::size_t n = static_cast<std::size_t>(n_d);
+        if (is_face && k == s.face_property && n > kMaxFaceCorners)
+          return parse_error(s.path, e.name + " " + std::to_string(i) + " " + too_many_corners(n));
         const std::size_t vs = ply_size(prop.type);
         if (static_cast<std::size_t>(end - p) / vs < n) {
           return parse_error(s.path, "truncated: the file ends in " + e.name + " " +
@@ -1353,6 +1376,9 @@ Status read_ply_ascii(PlyReadState& s, std::string_view bytes) {
     return *v;
   };
   for (const PlyElement& e : s.header.elements) {
+    // Nothing to read (and a huge count must not cost a loop: the fuzzer
+    // found "element x 1899460386" without properties running for minutes).
+    if (e.properties.empty()) continue;
     const bool is_vertex = &e == s.vertex_element;
     const bool is_face = &e == s.face_element;
     std::vector<float> cscale(e.properties.size());
@@ -1378,8 +1404,12 @@ Status read_ply_ascii(PlyReadState& s, std::string_view bytes) {
         }
         Expected<double> n_d = number("list length", i, e);
         if (!n_d) return n_d.error();
-        if (*n_d < 0 || *n_d != std::floor(*n_d) || *n_d > 1e6) {
+        if (*n_d < 0 || *n_d != std::floor(*n_d)) {
           return parse_error(s.path, at() + "bad list length '" + std::string(tok) + "'");
+        }
+        if (is_face && k == s.face_property && *n_d > static_cast<double>(kMaxFaceCorners)) {
+          return parse_error(s.path, at() + e.name + " " + std::to_string(i) + " " +
+                                         too_many_corners(static_cast<std::size_t>(*n_d)));
         }
         const std::size_t n = static_cast<std::size_t>(*n_d);
         for (std::size_t j = 0; j < n; ++j) {

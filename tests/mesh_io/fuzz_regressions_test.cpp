@@ -57,6 +57,9 @@ TEST(FuzzRegressionFiles, EachSavedMeshInputGivesItsError) {
        "line 2: texture coordinate index 1 is out of range (0 in the file"},
       // 15 bytes, no newline: OpenMesh read uninitialised counts (2 GB).
       {"fuzz_mesh_off/uninitialised_counts_oom.off", "line 1: not an OFF file"},
+      // "element vert... 1899460386" without properties: a loop of 1.9e9
+      // empty records ran for minutes. The count token ends in "]000y".
+      {"fuzz_mesh_ply/propertyless_element_huge_count.ply", "line 4: bad element line"},
       // A list property in the vertex element: values read past the end.
       {"fuzz_mesh_ply/vertex_list_overread.ply", "truncated: the file ends in vertex "},
   };
@@ -257,6 +260,69 @@ TEST_F(FuzzRegression, PlyVertexElementWithAListIsBoundsChecked) {
   const Error e = error_of("a.ply", data);
   EXPECT_NE(e.message.find("truncated: the file ends in vertex 1 of 2"), std::string::npos)
       << e.message;
+}
+
+TEST_F(FuzzRegression, PlyElementWithoutPropertiesCostsNothing) {
+  // 4e9 records of nothing: read (and skipped) at once, the mesh loads.
+  const LoadedMesh m =
+      load("a.ply",
+           "ply\nformat ascii 1.0\nelement nothing 4000000000\n"
+           "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+           "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+           "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(m.mesh.vertex_count(), 3u);
+  EXPECT_EQ(m.mesh.face_count(), 1u);
+}
+
+// --- work limits: polygons ----------------------------------------------------
+
+std::string many(const std::string& item, int n) {
+  std::string s;
+  for (int i = 0; i < n; ++i) s += item;
+  return s;
+}
+
+TEST_F(FuzzRegression, PolygonsAboveTheCornerLimitAreRejected) {
+  // 16385 corners: one above kMaxFaceCorners (OpenMesh's OBJ reader is
+  // O(n^2) per face; a 2 MB face line would take minutes).
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  EXPECT_NE(error_of("a.obj", tri + "f" + many(" 1", 16385) + "\n")
+                .message.find("line 4: face has 16385 corners; texbake reads polygons of at most "
+                              "16384"),
+            std::string::npos);
+  EXPECT_NE(error_of("b.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n16385" + many(" 0", 16385) + "\n")
+                .message.find("line 6: face has 16385 corners"),
+            std::string::npos);
+  EXPECT_NE(error_of("c.ply",
+                     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                     "y\nproperty float z\nelement face 1\nproperty list int int "
+                     "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n16385" +
+                         many(" 0", 16385) + "\n")
+                .message.find("line 13: face 0 has 16385 corners"),
+            std::string::npos);
+  // At the limit: read (all corners the same vertex: degenerate, no triangle).
+  const Error e = error_of("d.obj", tri + "f" + many(" 1", 16384) + "\n");
+  EXPECT_NE(e.message.find("no faces"), std::string::npos) << e.message;
+}
+
+TEST_F(FuzzRegression, LargeNonConvexPolygonIsFannedNotEarClipped) {
+  // A 1000-corner star (alternating radius 1 and 0.5: non-convex) is above
+  // kMaxEarClipCorners: fanned from corner 0, n - 2 triangles, every corner
+  // kept, no degenerate triangle (corner 0 sees every other corner of the star
+  // at a distinct angle).
+  const int n = 1000;
+  std::string text = "OFF\n" + std::to_string(n) + " 1 0\n";
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n, r = i % 2 ? 0.5 : 1.0;
+    text += std::to_string(r * std::cos(a)) + " " + std::to_string(r * std::sin(a)) + " 0\n";
+  }
+  text += std::to_string(n);
+  for (int i = 0; i < n; ++i) text += " " + std::to_string(i);
+  const LoadedMesh m = load("star.off", text + "\n");
+  ASSERT_EQ(m.mesh.triangles.size(), static_cast<std::size_t>(n - 2));
+  for (int i = 0; i < n - 2; ++i) {
+    EXPECT_EQ(m.mesh.triangles[i], (std::array<uint32_t, 3>{0, uint32_t(i + 1), uint32_t(i + 2)}));
+  }
 }
 
 // --- proxy JSON ---------------------------------------------------------------
