@@ -1404,7 +1404,7 @@ Status read_ply_ascii(PlyReadState& s, std::string_view bytes) {
         }
         Expected<double> n_d = number("list length", i, e);
         if (!n_d) return n_d.error();
-        if (*n_d < 0 || *n_d != std::floor(*n_d)) {
+        if (*n_d < 0 || *n_d != std::floor(*n_d) || *n_d > 1e6) {
           return parse_error(s.path, at() + "bad list length '" + std::string(tok) + "'");
         }
         if (is_face && k == s.face_property && *n_d > static_cast<double>(kMaxFaceCorners)) {

@@ -60,6 +60,10 @@ TEST(FuzzRegressionFiles, EachSavedMeshInputGivesItsError) {
       // "element vert... 1899460386" without properties: a loop of 1.9e9
       // empty records ran for minutes. The count token ends in "]000y".
       {"fuzz_mesh_ply/propertyless_element_huge_count.ply", "line 4: bad element line"},
+      // A list length of 9.4e42 converted to size_t (UBSan; introduced and
+      // caught during this work, never on main).
+      {"fuzz_mesh_ply/list_length_1e42_ubsan.ply",
+       "line 18: bad list length '9444444444444444444444444444444444444444444'"},
       // A list property in the vertex element: values read past the end.
       {"fuzz_mesh_ply/vertex_list_overread.ply", "truncated: the file ends in vertex "},
   };
