@@ -2,10 +2,10 @@
 // once, queried by batches of rays. This header names no Embree type; only
 // embree_scene.cpp includes <embree3/rtcore.h>.
 //
-// Rays come as structure-of-arrays batches so the implementation can hand
-// them to Embree's stream API (rtcOccludedNp / rtcIntersectNp) without
-// copying. Every ray is fully initialised inside (mask = -1: Debian's Embree
-// is built with ray masks, and a ray with another mask hits nothing).
+// Rays come as structure-of-arrays batches; the implementation copies them in
+// blocks into aligned arrays for Embree's stream API (rtcOccluded1M /
+// rtcIntersectNp). Every ray is fully initialised inside (mask = -1: Debian's
+// Embree is built with ray masks, and a ray with another mask hits nothing).
 #pragma once
 
 #include <cstddef>
@@ -61,6 +61,10 @@ class EmbreeScene {
   // Length of the bounding-box diagonal of the mesh's referenced vertices:
   // the scale that ray offsets are relative to (SPEC section 3).
   double diagonal() const;
+  // Largest |coordinate| of the referenced vertices: float positions have an
+  // absolute precision of about this times 2^-24, which bounds how small a
+  // ray offset may be (bake/visibility.h).
+  double max_abs_coordinate() const;
 
   // occluded[i] = 1 if ray i hits any triangle with t in [tnear, tfar], else 0.
   // Thread-safe: may be called from many threads at once.

@@ -1,11 +1,247 @@
-// texbake render: placeholder until its issue lands.
+// texbake render MESH: a Phong-shaded, ray-traced preview (SPEC section 5;
+// bake/render_preview.h has the camera, lighting and sampling conventions).
+// Thin: parse -> options -> load -> one render_preview call -> atomic write.
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "bake/cli/commands.h"
+#include "bake/cli/geometry_flags.h"
+#include "bake/embree_scene.h"
+#include "bake/parallel.h"
+#include "bake/render_preview.h"
+#include "mesh_io/atomic_file.h"
+#include "mesh_io/image_io.h"
+#include "mesh_io/read_mesh.h"
 
 namespace texbake::cli {
+namespace {
+
+enum class ColorChoice { kAuto, kVertex, kAtlas, kNone };
+
+struct RenderArgs {
+  std::string mesh;
+  std::string output;
+  std::string size = "512x512";
+  std::vector<double> view;  // AZ,EL
+  int views = 1;
+  bool shadows = false;
+  int samples = 4;
+  int threads = 0;
+  bool flat = false;
+  std::vector<float> background;
+  ColorChoice colors = ColorChoice::kAuto;
+  std::string texture;
+  std::string outside = "clamp";  // --outside clamp | R,G,B[,A]
+  GeometryFlags geometry;
+};
+
+// "WxH" with positive integers.
+std::optional<std::pair<int, int>> parse_size(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
+    return std::nullopt;
+  }
+  if (w <= 0 || h <= 0 || w > 32768 || h > 32768) return std::nullopt;
+  return std::make_pair(w, h);
+}
+
+// "R,G,B" or "R,G,B,A", each a number in [0, 1]; alpha defaults to 1.
+std::optional<Rgba> parse_color(const std::string& text) {
+  Rgba c{0, 0, 0, 1};
+  std::size_t n = 0, pos = 0;
+  while (n < 4) {
+    const std::size_t comma = text.find(',', pos);
+    const std::string part = text.substr(pos, comma == std::string::npos ? comma : comma - pos);
+    char* end = nullptr;
+    const double v = std::strtod(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !(v >= 0 && v <= 1)) return std::nullopt;
+    c[n++] = static_cast<float>(v);
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  if (n < 3 || pos > text.size() || (n == 4 && text.find(',', pos) != std::string::npos)) {
+    return std::nullopt;
+  }
+  return c;
+}
+
+std::filesystem::path default_output(const std::string& mesh) {
+  return std::filesystem::path(mesh).stem().string() + "_render.png";
+}
+
+int run_render(const RenderArgs& args) {
+  RenderOptions options;
+  const auto size = parse_size(args.size);
+  if (!size) {
+    return report_error(
+        ErrorCode::kInvalidArgument,
+        "--size: expected WxH with positive integers up to 32768, got '" + args.size + "'");
+  }
+  options.width = size->first;
+  options.height = size->second;
+  if (!args.view.empty()) {
+    options.azimuth_deg = args.view[0];
+    options.elevation_deg = args.view[1];
+  }
+  options.views = args.views;
+  options.shadows = args.shadows;
+  options.samples_per_pixel = args.samples;
+  options.smooth_normals = !args.flat;
+  options.up = up_direction(args.geometry);
+  if (!args.background.empty()) {
+    for (int c = 0; c < 3; ++c) options.background[c] = args.background[c];
+  }
+
+  // --texture and --proxy/--proxy-file go together: direct projection.
+  const bool projecting = args.geometry.kind || args.geometry.proxy_file;
+  if (projecting != !args.texture.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        projecting ? "--proxy/--proxy-file needs --texture IMG"
+                                   : "--texture needs --proxy KIND or --proxy-file F");
+  }
+  if (!projecting && (!given_geometry_flags(args.geometry).empty() || args.outside != "clamp")) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "geometry flags and --outside need --texture and --proxy");
+  }
+  std::optional<Rgba> outside;
+  if (args.outside != "clamp") {
+    outside = parse_color(args.outside);
+    if (!outside) {
+      return report_error(
+          ErrorCode::kInvalidArgument,
+          "--outside: expected clamp or R,G,B[,A] in [0, 1], got '" + args.outside + "'");
+    }
+  }
+  std::optional<Proxy> proxy;
+  if (projecting) {
+    auto p = proxy_from_flags(args.geometry);
+    if (!p) return report_error(p.error());
+    proxy = std::move(p).value();
+  }
+
+  const std::filesystem::path output =
+      args.output.empty() ? default_output(args.mesh) : std::filesystem::path(args.output);
+  if (Status st = check_writable(output); !st) return report_error(st.error());
+  ThreadLimit limit(args.threads);
+
+  auto loaded = read_mesh(args.mesh);
+  if (!loaded) return report_error(loaded.error());
+  const MeshData& mesh = loaded->mesh;
+  if (mesh.triangles.empty()) {
+    return report_error(ErrorCode::kParse,
+                        "'" + args.mesh + "' has no non-degenerate triangle to render");
+  }
+
+  // The colour source: --texture/--proxy, else the mesh's own atlas or
+  // vertex colours (--colors picks one), else grey.
+  ColorSource source = GreySource{};
+  Image texture;
+  const bool has_atlas = mesh.has_uvs() && !mesh.texture_path.empty();
+  ColorChoice choice = args.colors;
+  if (proxy) {
+    auto img = read_image(args.texture);
+    if (!img) return report_error(img.error());
+    texture = std::move(img).value();
+    source = ProjectionSource{*proxy, texture.view(), outside};
+    choice = ColorChoice::kNone;  // handled
+  } else if (choice == ColorChoice::kAuto) {
+    choice = has_atlas                  ? ColorChoice::kAtlas
+             : mesh.has_vertex_colors() ? ColorChoice::kVertex
+                                        : ColorChoice::kNone;
+  }
+  if (choice == ColorChoice::kAtlas) {
+    if (!has_atlas) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          "--colors atlas: '" + args.mesh + "' has no UVs with a texture");
+    }
+    auto img = read_image(mesh.texture_path);
+    if (!img) return report_error(img.error());
+    texture = std::move(img).value();
+    source = AtlasSource{texture.view()};
+  } else if (choice == ColorChoice::kVertex) {
+    if (!mesh.has_vertex_colors()) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          "--colors vertex: '" + args.mesh + "' has no vertex colours");
+    }
+    source = VertexColorSource{};
+  }
+
+  auto scene = EmbreeScene::build(mesh, BuildQuality::kMedium);
+  if (!scene) return report_error(scene.error());
+  auto image = render_preview(mesh, *scene, source, options);
+  if (!image) return report_error(image.error());
+  const ImageView view{image->width, image->height, image->pixels.data()};
+  if (Status st = write_image(output, view); !st) return report_error(st.error());
+  return 0;
+}
+
+}  // namespace
 
 RunFunction add_render_command(CLI::App& app) {
-  app.add_subcommand("render", "(not implemented yet)");
-  return [] { return report_error(ErrorCode::kUnsupported, "'render' is not implemented yet"); };
+  auto args = std::make_shared<RenderArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "render",
+      "Phong-shaded ray-traced preview of a mesh (Embree). Colours: --texture/--proxy (direct "
+      "projection, the ground truth of a bake), else the mesh's atlas or vertex colours, else "
+      "grey. Background pixels get alpha 0.");
+  cmd->add_option("MESH", args->mesh, "mesh file (OBJ, PLY, OFF, STL)")->required();
+  cmd->add_option("-o,--output", args->output,
+                  "output image (PNG, or any format by extension; default: "
+                  "<mesh name>_render.png in the current folder)");
+  cmd->add_option("--size", args->size, "WxH pixels of each view")->capture_default_str();
+  cmd->add_option("--view", args->view,
+                  "AZ,EL: azimuth (degrees, counter-clockwise seen from above; 0 looks from -Y "
+                  "for --up z, from +Z for --up y) and elevation above the horizon in [-90, 90] "
+                  "(default 0,20)")
+      ->delimiter(',')
+      ->expected(2);
+  cmd->add_option("--views", args->views,
+                  "contact sheet of N views at evenly spaced azimuths, in a grid")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd->add_flag("--shadows", args->shadows, "shadow rays towards the key light");
+  cmd->add_option("--samples", args->samples, "jittered samples per pixel (antialiasing)")
+      ->check(CLI::Range(1, 1024))
+      ->capture_default_str();
+  cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--texture", args->texture,
+                  "image projected through --proxy/--proxy-file onto every hit (no visibility "
+                  "test): the ground truth a bake is compared with");
+  cmd->add_option("--outside", args->outside,
+                  "points outside the proxy's (u, v) domain: clamp (to the edge texel) or "
+                  "R,G,B[,A] in [0, 1]")
+      ->capture_default_str();
+  add_geometry_flags(*cmd, args->geometry);
+  cmd->add_flag("--flat", args->flat, "flat shading (geometric normals)");
+  cmd->add_option("--background", args->background, "R,G,B background in [0, 1]")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(CLI::Range(0.0, 1.0));
+  const std::map<std::string, ColorChoice> kColors = {{"auto", ColorChoice::kAuto},
+                                                      {"vertex", ColorChoice::kVertex},
+                                                      {"atlas", ColorChoice::kAtlas},
+                                                      {"none", ColorChoice::kNone}};
+  cmd->add_option("--colors", args->colors,
+                  "colour source without --texture: auto (atlas, else vertex colours, else "
+                  "grey), vertex, atlas or none")
+      ->transform(CLI::CheckedTransformer(kColors, CLI::ignore_case));
+  return [args] {
+    if (!args->view.empty() && !(args->view[1] >= -90 && args->view[1] <= 90)) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          "--view: elevation must be in [-90, 90] degrees");
+    }
+    return run_render(*args);
+  };
 }
 
 }  // namespace texbake::cli

@@ -1,0 +1,394 @@
+// Per-vertex baking benchmarks (issue #3): the bunny (37k vertices) and the
+// armadillo subdivided twice 1-to-4 (832k triangles), sphere proxy around
+// the mesh, Earth map, visibility on, both filters; and raw Embree occlusion
+// throughput (rtcOccluded1 loop, rtcOccluded1M, rtcOccluded16, rtcOccludedNp)
+// on exactly the rays of our visibility path, so its overhead shows.
+//
+// Run: build-dev/texbake_bench --benchmark_filter=Bake|Visibility|Raw
+// The subdivided armadillo is also written as binary PLY to
+// $TMPDIR/texbake_armadillo_832k.ply (BM_WritePly) for timing the CLI end to
+// end with /usr/bin/time -v.
+#include <benchmark/benchmark.h>
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <vector>
+
+#include "bake/bake_vertex.h"
+#include "bake/embree_scene.h"
+#include "bake/parallel.h"
+#include "bake/visibility.h"
+#include "mesh_io/image_io.h"
+#include "mesh_io/read_mesh.h"
+#include "mesh_io/write_mesh.h"
+
+namespace texbake {
+namespace {
+
+const std::filesystem::path kData = TEXBAKE_SHARED_DATA_DIR;
+
+[[noreturn]] void die(const std::string& what) {
+  std::fprintf(stderr, "bake_bench: %s\n", what.c_str());
+  std::exit(1);
+}
+
+// One round of 1-to-4 midpoint subdivision of the triangles (edge midpoints
+// shared between neighbours); the result's faces are its triangles.
+MeshData subdivide(const MeshData& in) {
+  MeshData out;
+  out.positions = in.positions;
+  std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoint;
+  auto mid = [&](uint32_t a, uint32_t b) {
+    auto key = std::minmax(a, b);
+    auto [it, fresh] = midpoint.try_emplace(key, static_cast<uint32_t>(out.positions.size()));
+    if (fresh) {
+      const Float3 p = in.positions[a], q = in.positions[b];
+      out.positions.push_back({(p.x + q.x) / 2, (p.y + q.y) / 2, (p.z + q.z) / 2});
+    }
+    return it->second;
+  };
+  out.face_offsets.assign(1, 0);
+  for (const auto& t : in.triangles) {
+    const uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+    for (const std::array<uint32_t, 3> f :
+         {std::array<uint32_t, 3>{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}}) {
+      out.face_vertices.insert(out.face_vertices.end(), f.begin(), f.end());
+      out.face_offsets.push_back(static_cast<uint32_t>(out.face_vertices.size()));
+    }
+  }
+  triangulate_faces(out);
+  return out;
+}
+
+MeshData load(const std::filesystem::path& path) {
+  Expected<LoadedMesh> m = read_mesh(path);
+  if (!m) die(m.error().message);
+  return std::move(m->mesh);
+}
+
+const MeshData& bunny() {
+  static const MeshData mesh = load(kData / "bunny00.off");
+  return mesh;
+}
+const MeshData& armadillo() {
+  static const MeshData mesh = subdivide(subdivide(load(kData / "armadillo.off")));
+  return mesh;
+}
+const Image& earth() {
+  static const Image image = [] {
+    Expected<Image> img = read_image(kData / "earth.jpg");
+    if (!img) die(img.error().message);
+    return std::move(img).value();
+  }();
+  return image;
+}
+
+// A sphere around the mesh's bounding box (what `fit` would roughly give).
+Proxy sphere_around(const MeshData& mesh) {
+  Float3 lo = mesh.positions[0], hi = lo;
+  for (const Float3& p : mesh.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const Vec3 c{(lo.x + hi.x) / 2.0, (lo.y + hi.y) / 2.0, (lo.z + hi.z) / 2.0};
+  const double r = length(Vec3{hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) / 2;
+  Expected<Proxy> p = make_proxy(SphereParams{c, r, {0, 1, 0}, Vec3{0, 0, 1}});
+  if (!p) die(p.error().message);
+  return *p;
+}
+
+const MeshData& mesh_by_index(int64_t i) {
+  return i == 0 ? bunny() : armadillo();
+}
+
+// ---- The whole per-vertex bake (scene build + bake + fill). ----------------
+
+void BM_BakeVertex(benchmark::State& state) {
+  const MeshData& mesh = mesh_by_index(state.range(0));
+  const Proxy proxy = sphere_around(mesh);
+  VertexBakeOptions options;
+  options.filter = state.range(1) == 0 ? VertexFilter::kBilinear : VertexFilter::kArea;
+  VertexBakeTimings sum;
+  VertexBakeCounts counts;
+  for (auto _ : state) {
+    Expected<VertexBakeResult> r = bake_vertex(mesh, earth().view(), proxy, options);
+    if (!r) die(r.error().message);
+    sum.scene_build += r->timings.scene_build;
+    sum.bake += r->timings.bake;
+    sum.fill += r->timings.fill;
+    counts = r->counts;
+    benchmark::DoNotOptimize(r->colors.data());
+  }
+  const double n = static_cast<double>(state.iterations());
+  state.counters["scene_s"] = sum.scene_build / n;
+  state.counters["bake_s"] = sum.bake / n;
+  state.counters["fill_s"] = sum.fill / n;
+  state.counters["vertices"] = static_cast<double>(counts.vertices);
+  state.counters["triangles"] = static_cast<double>(counts.triangles);
+  state.counters["occluded"] = static_cast<double>(counts.occluded);
+  state.counters["unfilled"] = static_cast<double>(counts.unfilled);
+  state.SetLabel(state.range(0) == 0 ? "bunny" : "armadillo_832k");
+}
+BENCHMARK(BM_BakeVertex)
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->ArgNames({"mesh", "area"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// ---- Visibility rays: ours vs raw Embree on the same rays and scene flags. ----
+
+struct RaySet {
+  std::vector<float> ox, oy, oz, dx, dy, dz;
+  float tnear = 0;
+};
+
+const RaySet& rays_for(int64_t mesh_index, const EmbreeScene& scene) {
+  static std::optional<RaySet> cache[2];
+  if (!cache[mesh_index]) {
+    const MeshData& mesh = mesh_by_index(mesh_index);
+    const Proxy proxy = sphere_around(mesh);
+    RaySet rays;
+    for (const Float3& p : mesh.positions) {
+      const MapResult m = inverse_map(proxy, {p.x, p.y, p.z});
+      rays.ox.push_back(p.x), rays.oy.push_back(p.y), rays.oz.push_back(p.z);
+      rays.dx.push_back(static_cast<float>(m.to_projector.x));
+      rays.dy.push_back(static_cast<float>(m.to_projector.y));
+      rays.dz.push_back(static_cast<float>(m.to_projector.z));
+    }
+    rays.tnear = static_cast<float>(visibility_offset(scene));
+    cache[mesh_index] = std::move(rays);
+  }
+  return *cache[mesh_index];
+}
+
+const EmbreeScene& scene_for(int64_t mesh_index) {
+  static std::optional<EmbreeScene> cache[2];
+  if (!cache[mesh_index]) {
+    Expected<EmbreeScene> s = EmbreeScene::build(mesh_by_index(mesh_index), BuildQuality::kLow);
+    if (!s) die(s.error().message);
+    cache[mesh_index].emplace(std::move(s).value());
+  }
+  return *cache[mesh_index];
+}
+
+constexpr std::size_t kGrain = 4096;  // as bake/visibility.cpp
+
+void BM_VisibilityOurs(benchmark::State& state) {
+  ThreadLimit limit(static_cast<int>(state.range(1)));
+  const EmbreeScene& scene = scene_for(state.range(0));
+  const RaySet& rays = rays_for(state.range(0), scene);
+  std::vector<Vec3> points, dirs;
+  for (std::size_t i = 0; i < rays.ox.size(); ++i) {
+    points.push_back({rays.ox[i], rays.oy[i], rays.oz[i]});
+    dirs.push_back({rays.dx[i], rays.dy[i], rays.dz[i]});
+  }
+  std::size_t visible = 0;
+  for (auto _ : state) {
+    const std::vector<uint8_t> v = compute_visibility(scene, points, dirs);
+    visible = std::count(v.begin(), v.end(), 1);
+  }
+  state.counters["rays_per_s"] = benchmark::Counter(static_cast<double>(rays.ox.size()),
+                                                    benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["visible"] = static_cast<double>(visible);
+}
+BENCHMARK(BM_VisibilityOurs)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"mesh", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// The same rays through EmbreeScene::occluded directly (no Vec3 -> float copy).
+void BM_VisibilitySceneOccluded(benchmark::State& state) {
+  ThreadLimit limit(static_cast<int>(state.range(1)));
+  const EmbreeScene& scene = scene_for(state.range(0));
+  const RaySet& rays = rays_for(state.range(0), scene);
+  const std::size_t n = rays.ox.size();
+  std::vector<float> tnear(n, rays.tnear);
+  std::vector<uint8_t> occluded(n);
+  for (auto _ : state) {
+    parallel_for_chunks(n, kGrain, [&](std::size_t b, std::size_t e) {
+      RayBatch batch{rays.ox.data() + b,
+                     rays.oy.data() + b,
+                     rays.oz.data() + b,
+                     rays.dx.data() + b,
+                     rays.dy.data() + b,
+                     rays.dz.data() + b,
+                     tnear.data() + b,
+                     nullptr,
+                     e - b};
+      scene.occluded(batch, occluded.data() + b);
+    });
+  }
+  state.counters["rays_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["visible"] = static_cast<double>(std::count(occluded.begin(), occluded.end(), 0));
+}
+BENCHMARK(BM_VisibilitySceneOccluded)
+    ->ArgsProduct({{0, 1}, {1, 2}})
+    ->ArgNames({"mesh", "threads"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// A raw Embree scene with the same flags as EmbreeScene (robust, compact, low quality).
+struct RawScene {
+  RTCDevice device = rtcNewDevice(nullptr);
+  RTCScene scene = rtcNewScene(device);
+  std::vector<float> vertices;
+  RawScene(const MeshData& mesh, bool compact) {
+    rtcSetSceneFlags(scene, static_cast<RTCSceneFlags>(RTC_SCENE_FLAG_ROBUST |
+                                                       (compact ? RTC_SCENE_FLAG_COMPACT : 0)));
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_LOW);
+    vertices.resize(mesh.positions.size() * 3 + 1);
+    std::memcpy(vertices.data(), mesh.positions.data(), mesh.positions.size() * 12);
+    rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices.data(), 0,
+                               12, mesh.positions.size());
+    auto* idx = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, mesh.triangles.size()));
+    std::memcpy(idx, mesh.triangles.data(), mesh.triangles.size() * 12);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(scene);
+  }
+  ~RawScene() {
+    rtcReleaseScene(scene);
+    rtcReleaseDevice(device);
+  }
+};
+
+// compact = true: the flags of EmbreeScene; false: without RTC_SCENE_FLAG_COMPACT.
+RawScene& raw_scene_for(int64_t mesh_index, bool compact) {
+  static std::optional<RawScene> cache[2][2];
+  auto& slot = cache[mesh_index][compact ? 1 : 0];
+  if (!slot) slot.emplace(mesh_by_index(mesh_index), compact);
+  return *slot;
+}
+
+RTCRay make_ray(const RaySet& r, std::size_t i) {
+  RTCRay ray;
+  ray.org_x = r.ox[i], ray.org_y = r.oy[i], ray.org_z = r.oz[i];
+  ray.dir_x = r.dx[i], ray.dir_y = r.dy[i], ray.dir_z = r.dz[i];
+  ray.tnear = r.tnear;
+  ray.tfar = std::numeric_limits<float>::infinity();
+  ray.time = 0;
+  ray.mask = 0xFFFFFFFFu;  // Debian's Embree has ray masks on
+  ray.id = static_cast<unsigned>(i);
+  ray.flags = 0;
+  return ray;
+}
+
+enum RawMode { kOccluded1, kOccluded1M, kOccluded16, kOccludedNp };
+
+void BM_RawEmbree(benchmark::State& state) {
+  ThreadLimit limit(static_cast<int>(state.range(2)));
+  const int64_t mesh_index = state.range(0);
+  const auto mode = static_cast<RawMode>(state.range(1));
+  const RaySet& rays = rays_for(mesh_index, scene_for(mesh_index));
+  RTCScene scene = raw_scene_for(mesh_index, state.range(3) == 1).scene;
+  const std::size_t n = rays.ox.size();
+  std::vector<uint8_t> occluded(n);
+  for (auto _ : state) {
+    parallel_for_chunks(n, kGrain, [&](std::size_t b, std::size_t e) {
+      RTCIntersectContext context;
+      rtcInitIntersectContext(&context);
+      if (mode == kOccluded1) {
+        for (std::size_t i = b; i < e; ++i) {
+          RTCRay ray = make_ray(rays, i);
+          rtcOccluded1(scene, &context, &ray);
+          occluded[i] = ray.tfar < 0;
+        }
+      } else if (mode == kOccluded1M) {
+        std::vector<RTCRay> block(e - b);
+        for (std::size_t i = b; i < e; ++i) block[i - b] = make_ray(rays, i);
+        rtcOccluded1M(scene, &context, block.data(), static_cast<unsigned>(e - b), sizeof(RTCRay));
+        for (std::size_t i = b; i < e; ++i) occluded[i] = block[i - b].tfar < 0;
+      } else if (mode == kOccluded16) {
+        for (std::size_t s = b; s < e; s += 16) {
+          alignas(64) RTCRay16 packet;
+          alignas(64) int valid[16];
+          for (int k = 0; k < 16; ++k) {
+            const std::size_t i = std::min(s + k, e - 1);
+            valid[k] = s + k < e ? -1 : 0;
+            packet.org_x[k] = rays.ox[i], packet.org_y[k] = rays.oy[i],
+            packet.org_z[k] = rays.oz[i];
+            packet.dir_x[k] = rays.dx[i], packet.dir_y[k] = rays.dy[i],
+            packet.dir_z[k] = rays.dz[i];
+            packet.tnear[k] = rays.tnear, packet.tfar[k] = std::numeric_limits<float>::infinity();
+            packet.time[k] = 0, packet.mask[k] = 0xFFFFFFFFu, packet.id[k] = k, packet.flags[k] = 0;
+          }
+          rtcOccluded16(valid, scene, &context, &packet);
+          for (int k = 0; k < 16 && s + k < e; ++k) occluded[s + k] = packet.tfar[k] < 0;
+        }
+      } else {
+        const std::size_t m = e - b;
+        std::vector<float> ox(rays.ox.begin() + b, rays.ox.begin() + e),
+            oy(rays.oy.begin() + b, rays.oy.begin() + e),
+            oz(rays.oz.begin() + b, rays.oz.begin() + e),
+            dx(rays.dx.begin() + b, rays.dx.begin() + e),
+            dy(rays.dy.begin() + b, rays.dy.begin() + e),
+            dz(rays.dz.begin() + b, rays.dz.begin() + e), tn(m, rays.tnear), time(m, 0),
+            tf(m, std::numeric_limits<float>::infinity());
+        std::vector<unsigned> mask(m, 0xFFFFFFFFu), id(m), flags(m, 0);
+        RTCRayNp np{ox.data(), oy.data(),   oz.data(), tn.data(),   dx.data(), dy.data(),
+                    dz.data(), time.data(), tf.data(), mask.data(), id.data(), flags.data()};
+        rtcOccludedNp(scene, &context, &np, static_cast<unsigned>(m));
+        for (std::size_t i = 0; i < m; ++i) occluded[b + i] = tf[i] < 0;
+      }
+    });
+  }
+  state.counters["rays_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["visible"] = static_cast<double>(std::count(occluded.begin(), occluded.end(), 0));
+  static const char* names[] = {"rtcOccluded1", "rtcOccluded1M", "rtcOccluded16", "rtcOccludedNp"};
+  state.SetLabel(names[mode]);
+}
+BENCHMARK(BM_RawEmbree)
+    ->ArgsProduct({{0, 1}, {kOccluded1, kOccluded1M, kOccluded16, kOccludedNp}, {1, 2}, {1, 0}})
+    ->ArgNames({"mesh", "mode", "threads", "compact"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// ---- Mesh files: binary PLY write and read of the subdivided armadillo. -----
+
+const std::filesystem::path& armadillo_ply() {
+  static const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "texbake_armadillo_832k.ply";
+  return path;
+}
+
+void BM_WritePly(benchmark::State& state) {
+  const MeshData& mesh = armadillo();
+  std::vector<std::array<float, 4>> colors(mesh.positions.size(), {0.5f, 0.25f, 1, 1});
+  MeshWriteOptions options;
+  options.vertex_colors = colors;
+  for (auto _ : state) {
+    if (Status s = write_mesh(armadillo_ply(), mesh, options); !s) die(s.error().message);
+  }
+  state.SetLabel(armadillo_ply().string());
+}
+BENCHMARK(BM_WritePly)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_ReadPly(benchmark::State& state) {
+  if (!std::filesystem::exists(armadillo_ply())) {
+    if (Status s = write_mesh(armadillo_ply(), armadillo()); !s) die(s.error().message);
+  }
+  for (auto _ : state) {
+    Expected<LoadedMesh> m = read_mesh(armadillo_ply());
+    if (!m) die(m.error().message);
+    benchmark::DoNotOptimize(m->mesh.positions.data());
+  }
+}
+BENCHMARK(BM_ReadPly)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+}  // namespace texbake
