@@ -52,7 +52,7 @@ fuzz_run() {
     -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$artifacts/" "${inputs[@]}" >"$log" 2>&1 || status=$?
   local execs
-  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+  execs=$(grep -a -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
   if [ "$status" -ne 0 ]; then
     echo "fuzz: $target FAILED (exit $status) after $execs executions; see $log and $artifacts" >&2
     grep -m3 -E 'ERROR|runtime error|SUMMARY' "$log" >&2 || true
