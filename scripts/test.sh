@@ -38,7 +38,8 @@ release_stage() {
 }
 
 sanitize_stage() {
-  # -O1 -g without NDEBUG: assertions stay on; leaks are reported (LSan).
+  # -O1 -g without NDEBUG: assertions stay on; leaks are reported (LSan;
+  # tests/lsan.supp lists the third-party ones).
   cmake -S "$TEXBAKE_ROOT" -B "$TEXBAKE_ASAN_BUILD" -DTEXBAKE_SANITIZE=ON \
     -DTEXBAKE_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" >/dev/null
@@ -46,6 +47,7 @@ sanitize_stage() {
     --target texbake test_mapping test_mesh_io test_cli test_bake
   (cd "$TEXBAKE_ASAN_BUILD" &&
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+      LSAN_OPTIONS=suppressions=$TEXBAKE_ROOT/tests/lsan.supp \
       ctest --output-on-failure --parallel "$texbake_jobs" --timeout 600 \
       -E "$texbake_asan_exclude")
 }
