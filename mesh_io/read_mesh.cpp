@@ -1,7 +1,12 @@
-// Mesh readers. OBJ, OFF and STL go through OpenMesh's readers with a custom
+// Mesh readers. OBJ, binary OFF and STL go through OpenMesh's readers with a custom
 // importer (ArrayImporter) that fills MeshData directly: OpenMesh's halfedge
 // TriMesh/PolyMesh would refuse non-manifold faces ("complex edge") and reorder
 // nothing but lose faces, which SPEC section 8 forbids.
+//
+// ASCII OFF has its own parser (read_off_ascii, see there why), and every
+// file OpenMesh reads is checked first (check_obj, check_off_binary,
+// check_stl) so that OpenMesh never sees input it mishandles (the fuzzers
+// in tests/fuzz found an assertion abort and a 2 GB allocation there).
 //
 // PLY has its own parser here (read_ply below), because OpenMesh 9.0's
 // PLYReader (PLYReader.cc, checked with this importer on a test file) loses
