@@ -27,11 +27,29 @@ std::string first_line(std::string s) {
   return s.empty() ? std::string("unknown OpenImageIO error") : s;
 }
 
-// A decoded image is held as floats: refuse sizes that cannot be a real
-// texture before allocating (a lying header could ask for terabytes).
-constexpr long long kMaxPixels = 1ll << 28;  // 16384 x 16384
-
 }  // namespace
+
+Status check_image_size(long long width, long long height, int channels) {
+  if (width <= 0 || height <= 0 || channels <= 0) {
+    return make_error(ErrorCode::kParse,
+                      "has " + std::to_string(width) + " x " + std::to_string(height) +
+                          " pixels and " + std::to_string(channels) + " channels: no image to use");
+  }
+  // Compare without overflow: width, height < 2^31 from OIIO's int spec.
+  if (width > kMaxImagePixels / height) {
+    return make_error(ErrorCode::kParse, std::to_string(width) + " x " + std::to_string(height) +
+                                             " pixels is larger than texbake reads (" +
+                                             std::to_string(kMaxImagePixels) +
+                                             " pixels, e.g. 16384 x 16384)");
+  }
+  if (width * height > kMaxImageValues / channels) {
+    return make_error(ErrorCode::kParse,
+                      std::to_string(width) + " x " + std::to_string(height) + " pixels of " +
+                          std::to_string(channels) + " channels is more than texbake decodes (" +
+                          std::to_string(kMaxImageValues) + " values, 16384 x 16384 x 4)");
+  }
+  return ok_status();
+}
 
 Expected<Image> read_image(const fs::path& path) {
   std::error_code ec;
@@ -52,16 +70,12 @@ Expected<Image> read_image(const fs::path& path) {
   }
   const OIIO::ImageSpec& spec = in->spec();
   const long long w = spec.width, h = spec.height;
-  if (w <= 0 || h <= 0 || spec.nchannels <= 0 || spec.depth > 1) {
-    return image_error(ErrorCode::kParse, path,
-                       "has " + std::to_string(w) + " x " + std::to_string(h) + " pixels and " +
-                           std::to_string(spec.nchannels) + " channels: no image to use");
+  if (spec.depth > 1 || spec.deep) {
+    return image_error(ErrorCode::kParse, path, "is a volume or deep image: no 2D image to use");
   }
-  if (w * h > kMaxPixels) {
-    return image_error(ErrorCode::kParse, path,
-                       std::to_string(w) + " x " + std::to_string(h) +
-                           " pixels is larger than texbake reads (" + std::to_string(kMaxPixels) +
-                           " pixels)");
+  // Checked on the header, before any pixel is decoded or allocated.
+  if (Status s = check_image_size(w, h, spec.nchannels); !s) {
+    return image_error(ErrorCode::kParse, path, s.error().message);
   }
   const int nc = spec.nchannels;
   // Reads into float: OIIO scales integer formats to [0, 1] (uint8 / 255,

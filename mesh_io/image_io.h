@@ -39,6 +39,17 @@ struct Image {
 
 Expected<Image> read_image(const std::filesystem::path& path);
 
+// Size limits of read_image, checked on the file's header before any pixel
+// is decoded (a lying header must not make texbake allocate terabytes): at
+// most kMaxImagePixels pixels (16384 x 16384) and kMaxImageValues decoded
+// values (16384 x 16384 x 4 channels: 4 GiB of floats, so a many-channel
+// image must be smaller). read_image holds the decoded values and the RGBA
+// result at once: at most 8 GiB for the largest image accepted. Above the
+// limits: kParse naming the size (read_image prefixes the file name).
+inline constexpr long long kMaxImagePixels = 1ll << 28;
+inline constexpr long long kMaxImageValues = 1ll << 30;
+Status check_image_size(long long width, long long height, int channels);
+
 // sRGB -> linear (mapping/sample.h's srgb_to_linear) on R, G, B of every
 // pixel; alpha is left alone. For `--linear` (SPEC section 1).
 void srgb_to_linear_in_place(Image& image);

@@ -1,7 +1,12 @@
-// Mesh readers. OBJ, OFF and STL go through OpenMesh's readers with a custom
+// Mesh readers. OBJ, binary OFF and STL go through OpenMesh's readers with a custom
 // importer (ArrayImporter) that fills MeshData directly: OpenMesh's halfedge
 // TriMesh/PolyMesh would refuse non-manifold faces ("complex edge") and reorder
 // nothing but lose faces, which SPEC section 8 forbids.
+//
+// ASCII OFF has its own parser (read_off_ascii, see there why), and every
+// file OpenMesh reads is checked first (check_obj, check_off_binary,
+// check_stl) so that OpenMesh never sees input it mishandles (the fuzzers
+// in tests/fuzz found an assertion abort and a 2 GB allocation there).
 //
 // PLY has its own parser here (read_ply below), because OpenMesh 9.0's
 // PLYReader (PLYReader.cc, checked with this importer on a test file) loses
@@ -40,6 +45,21 @@ namespace texbake {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Work limits for small hostile files (issue #7: no small input may run for
+// minutes). A polygon may have at most kMaxFaceCorners corners: OpenMesh's
+// OBJ reader removes repeated corners in O(n^2) per face (a 2 MB line of
+// "1 1 1 ..." would take minutes). Real meshes' largest polygons (caps of
+// scanned or CAD cylinders) have hundreds to a few thousand corners.
+// Non-convex polygons above kMaxEarClipCorners are fanned instead of ear
+// clipped (ear clipping is O(n^3) in the worst case).
+constexpr std::size_t kMaxFaceCorners = 16384;
+constexpr uint32_t kMaxEarClipCorners = 512;
+
+std::string too_many_corners(std::size_t n) {
+  return "has " + std::to_string(n) + " corners; texbake reads polygons of at most " +
+         std::to_string(kMaxFaceCorners);
+}
 
 Error parse_error(const fs::path& path, const std::string& what) {
   return make_error(ErrorCode::kParse, path.string() + ": " + what);
@@ -125,7 +145,7 @@ void triangulate_polygon(const MeshData& mesh, uint32_t first, uint32_t n,
   for (uint32_t i = 0; i < n && convex; ++i) {
     if (cross2(i, (i + 1) % n, (i + 2) % n) < 0) convex = false;
   }
-  if (convex) {
+  if (convex || n > kMaxEarClipCorners) {
     for (uint32_t i = 1; i + 1 < n; ++i) out.push_back({first, first + i, first + i + 1});
     return;
   }
@@ -532,160 +552,320 @@ std::optional<double> parse_number(std::string_view tok) {
   return v;
 }
 
-// OBJ checks OpenMesh cannot make: its reader silently skips a `v` line whose
-// numbers do not parse (nan, inf, garbage), which would shift every later
-// index, and it resolves negative (relative) indices without range checks.
-Status check_obj(const fs::path& path, std::string_view text, const MeshData& mesh) {
-  std::size_t v_lines = 0;
+template <class Int>
+bool parse_int(std::string_view tok, Int& out) {
+  const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), out);
+  return r.ec == std::errc() && r.ptr == tok.data() + tok.size();
+}
+
+// OBJ checks made before OpenMesh reads the file. OpenMesh 9.0's OBJ reader
+// (OBJReader.cc) reads face corners with istream >> into an int it neither
+// initialises nor checks: a corner without its vertex part ("/1/2") trips an
+// assertion (abort; found by the fuzzer: tests/fuzz/regressions/
+// fuzz_mesh_obj), a part that is not a number keeps the previous corner's
+// value, an index past INT_MAX overflows. It silently skips `v` and `vn`
+// lines whose numbers do not parse (nan, inf, garbage) but still counts them
+// for relative indices, which shifts every later index. And it opens
+// whatever `mtllib` names relative to the OBJ (a device such as /dev/zero
+// would be read forever). So every line OpenMesh acts on is checked here
+// first, split the way OpenMesh splits it (lines at '\n', the keyword is the
+// first token):
+// - v: three finite numbers (colours after them are OpenMesh's business);
+//   vn: three numbers;
+// - f: every corner is v, v/t, v/t/n or v//n with integer parts, v present;
+//   an index is 1-based, positive ones within the file's count of its kind,
+//   negative ones within the count so far (OBJ's relative indices);
+// - mtllib: the file named, if it exists, is a regular file.
+// Returns the number of `v` lines.
+Expected<std::size_t> check_obj(const fs::path& path, std::string_view text) {
+  struct Counts {
+    long long v = 0, vt = 0, vn = 0;
+  };
+  Counts total;
   std::optional<Error> err;
+  auto fail = [&](std::size_t no, const std::string& what) {
+    err = parse_error(path, "line " + std::to_string(no) + ": " + what);
+    return false;
+  };
+  // Pass 1: vertex data, as OpenMesh's read_vertices.
   for_each_line(text, [&](std::string_view line, std::size_t no) {
-    line = trim(line);
-    if (line.size() < 2 || line[0] != 'v' || !std::isspace(static_cast<unsigned char>(line[1])))
-      return true;
-    ++v_lines;
     const auto t = tokens(line);
+    if (t.empty() || t[0].front() == '#') return true;
+    const bool is_v = t[0] == "v", is_vn = t[0] == "vn";
+    if (t[0] == "vt") ++total.vt;
+    if (!is_v && !is_vn) return true;
+    ++(is_v ? total.v : total.vn);
     for (std::size_t i = 1; i < 4; ++i) {
       std::optional<double> x = i < t.size() ? parse_number(t[i]) : std::nullopt;
       if (!x || !std::isfinite(static_cast<float>(*x))) {
-        err = parse_error(path, "line " + std::to_string(no) + ": vertex coordinate '" +
-                                    (i < t.size() ? std::string(t[i]) : std::string("(missing)")) +
-                                    "' is not a finite number");
-        return false;
+        return fail(no, std::string(is_v ? "vertex coordinate '" : "normal coordinate '") +
+                            (i < t.size() ? std::string(t[i]) : std::string("(missing)")) +
+                            "' is not a finite number");
       }
     }
     return true;
   });
   if (err) return *err;
-  if (v_lines != mesh.vertex_count()) {
-    return parse_error(path, "has " + std::to_string(v_lines) + " vertex lines but " +
-                                 std::to_string(mesh.vertex_count()) + " vertices could be read");
-  }
-  return ok_status();
-}
-
-// Finds the line of an OBJ face whose index is out of range, for the message.
-std::string obj_bad_index_message(const fs::path& path, std::string_view text) {
-  long long nv = 0;
-  std::string msg;
+  // Pass 2: faces and material libraries, as OpenMesh's second pass.
+  Counts so_far;
+  const std::string dir = path.has_parent_path() ? path.parent_path().string() : ".";
   for_each_line(text, [&](std::string_view line, std::size_t no) {
-    line = trim(line);
-    if (line.size() > 1 && line[0] == 'v' && std::isspace(static_cast<unsigned char>(line[1])))
-      ++nv;
-    if (line.size() > 1 && line[0] == 'f' && std::isspace(static_cast<unsigned char>(line[1]))) {
-      const auto t = tokens(line);
-      for (std::size_t i = 1; i < t.size(); ++i) {
-        const std::string_view idx = t[i].substr(0, t[i].find('/'));
-        long long k = 0;
-        auto r = std::from_chars(idx.data(), idx.data() + idx.size(), k);
-        if (r.ec != std::errc()) continue;
-        const long long resolved = k < 0 ? nv + k + 1 : k;
-        if (k == 0 || resolved < 1 || resolved > nv) {
-          msg = "line " + std::to_string(no) + ": face index " + std::string(idx) +
-                " is out of range (" + std::to_string(nv) + " vertices so far; OBJ indices are " +
-                "1-based, negative ones count back from the last vertex)";
-          return false;
+    const auto t = tokens(line);
+    if (t.empty() || t[0].front() == '#') return true;
+    if (t[0] == "v") ++so_far.v;
+    if (t[0] == "vt") ++so_far.vt;
+    if (t[0] == "vn") ++so_far.vn;
+    if (t[0] == "mtllib") {
+      const std::string_view rest = trim(line.substr(line.find("mtllib") + 6));
+      std::error_code ec;
+      const fs::file_status st = fs::status(dir + "/" + std::string(rest), ec);
+      if (!ec && fs::exists(st) && !fs::is_regular_file(st)) {
+        return fail(no, "material library '" + std::string(rest) + "' is not a regular file");
+      }
+    }
+    if (t[0] != "f") return true;
+    if (t.size() - 1 > kMaxFaceCorners) return fail(no, "face " + too_many_corners(t.size() - 1));
+    for (std::size_t i = 1; i < t.size(); ++i) {
+      const std::string_view corner = t[i];
+      std::string_view part[3];
+      std::size_t parts = 0, start = 0;
+      while (true) {
+        const std::size_t slash = corner.find('/', start);
+        if (parts == 3)
+          return fail(no, "face corner '" + std::string(corner) + "' has more than 3 parts");
+        part[parts++] =
+            corner.substr(start, slash == std::string_view::npos ? slash : slash - start);
+        if (slash == std::string_view::npos) break;
+        start = slash + 1;
+      }
+      static constexpr const char* kWhat[3] = {"face index", "texture coordinate index",
+                                               "normal index"};
+      const long long count[3] = {total.v, total.vt, total.vn};
+      const long long before[3] = {so_far.v, so_far.vt, so_far.vn};
+      for (std::size_t k = 0; k < parts; ++k) {
+        if (part[k].empty()) {
+          if (k == 0)
+            return fail(no, "face corner '" + std::string(corner) + "' has no vertex index");
+          continue;
+        }
+        long long idx = 0;
+        if (!parse_int(part[k], idx)) {
+          return fail(no,
+                      std::string(kWhat[k]) + " '" + std::string(part[k]) + "' is not an integer");
+        }
+        const long long resolved = idx < 0 ? before[k] + idx + 1 : idx;
+        if (idx == 0 || resolved < 1 || resolved > (idx < 0 ? before[k] : count[k])) {
+          return fail(no, std::string(kWhat[k]) + " " + std::string(part[k]) +
+                              " is out of range (" +
+                              std::to_string(idx < 0 ? before[k] : count[k]) +
+                              (idx < 0 ? " so far" : " in the file") +
+                              "; OBJ indices are 1-based, negative ones count back from the last)");
         }
       }
     }
     return true;
   });
-  return msg;
+  if (err) return *err;
+  return static_cast<std::size_t>(total.v);
 }
 
-// OFF pre-check: OpenMesh's OFF reader parses with istreams (nan/inf refused,
-// the vertex silently kept as garbage), so numbers are checked here first,
-// along with the header's counts against the file's size.
-Status check_off(const fs::path& path, std::string_view text) {
-  std::size_t no = 0;
-  std::size_t header_seen = 0;  // 0: keyword, 1: counts, 2: data
-  long long nv = -1, nf = -1, vertices_seen = 0, faces_seen = 0;
-  bool has_keyword = false;
-  std::optional<Error> err;
-  for_each_line(text, [&](std::string_view raw, std::size_t line_no) {
-    no = line_no;
-    std::string_view line = trim(raw.substr(0, raw.find('#')));
-    if (line.empty()) return true;
-    auto t = tokens(line);
-    if (header_seen == 0) {
-      header_seen = 1;
-      if (t[0].find("OFF") != std::string_view::npos) {
-        has_keyword = true;
-        if (t[0].find("BINARY") != std::string_view::npos ||
-            t[0].find('4') != std::string_view::npos || t[0].find('n') != std::string_view::npos) {
-          return false;  // binary or unusual OFF: leave to OpenMesh
-        }
-        t.erase(t.begin());
-        if (t.empty()) return true;
+// OFF (geomview's format: a "[ST][C][N][4][n]OFF" keyword, the counts
+// "vertices faces edges", one vertex per line "x y z [nx ny nz] [colour]
+// [s t]", one face per line "n i0 .. in-1 [colour]", '#' comments).
+// ASCII OFF is parsed here, not by OpenMesh: OpenMesh 9.0's reader
+// (OFFReader.cc, read_ascii) reads counts and indices with istream >> into
+// uninitialised variables and never checks the stream, so a short or garbled
+// file makes it loop over garbage counts (the fuzzer found a 15-byte file that
+// made it allocate 2 GB: tests/fuzz/regressions/fuzz_mesh_off), it does not
+// skip comments, and it ignores counts written on the keyword line.
+// Binary OFF ("OFF BINARY") still goes through OpenMesh, after
+// check_off_binary has walked the file exactly as OpenMesh will read it.
+struct OffKeyword {
+  bool normals = false, colors = false, texcoords = false, high_dimension = false;
+};
+
+std::optional<OffKeyword> off_keyword(std::string_view tok) {
+  if (tok.size() < 3 || tok.substr(tok.size() - 3) != "OFF") return std::nullopt;
+  std::string_view p = tok.substr(0, tok.size() - 3);
+  OffKeyword k;
+  auto take = [&](std::string_view prefix, bool& flag) {
+    if (p.substr(0, prefix.size()) == prefix) {
+      flag = true;
+      p.remove_prefix(prefix.size());
+    }
+  };
+  take("ST", k.texcoords);
+  take("C", k.colors);
+  take("N", k.normals);
+  take("4", k.high_dimension);
+  take("n", k.high_dimension);
+  if (!p.empty()) return std::nullopt;
+  return k;
+}
+
+inline uint32_t load_le32(const char* p) {
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  if constexpr (std::endian::native == std::endian::big) v = byte_swap(v);
+  return v;
+}
+
+// Walks a binary OFF as OpenMesh's read_binary does (little-endian 32-bit
+// values after the keyword line; vertex: xyz [normal] [colour as 3 floats,
+// we ask for ColorFloat] [st]; face: n, then n indices; no face colours, we
+// do not ask for them) and checks that every value it reads is in the file
+// and every index in range, so OpenMesh never reads past the end.
+Status check_off_binary(const fs::path& path, std::string_view bytes, const OffKeyword& k) {
+  std::size_t pos = bytes.find('\n');
+  if (pos == std::string_view::npos) return parse_error(path, "truncated binary OFF (no data)");
+  ++pos;
+  const auto left = [&] { return static_cast<unsigned long long>(bytes.size() - pos); };
+  if (left() < 12) return parse_error(path, "truncated binary OFF: no vertex/face counts");
+  const unsigned long long nv = load_le32(bytes.data() + pos),
+                           nf = load_le32(bytes.data() + pos + 4);
+  pos += 12;
+  const unsigned long long record =
+      4ull * (3 + (k.normals ? 3 : 0) + (k.colors ? 3 : 0) + (k.texcoords ? 2 : 0));
+  if (nv * record + nf * 4 > left()) {
+    return parse_error(path, "binary OFF header declares " + std::to_string(nv) + " vertices and " +
+                                 std::to_string(nf) +
+                                 " faces, more than the file can hold (truncated or lying header)");
+  }
+  pos += static_cast<std::size_t>(nv * record);
+  for (unsigned long long f = 0; f < nf; ++f) {
+    if (left() < 4)
+      return parse_error(path, "truncated binary OFF: ends in face " + std::to_string(f));
+    const unsigned long long n = load_le32(bytes.data() + pos);
+    pos += 4;
+    if (n > kMaxFaceCorners)
+      return parse_error(path, "face " + std::to_string(f) + " " + too_many_corners(n));
+    if (n * 4 > left()) {
+      return parse_error(path, "truncated binary OFF: face " + std::to_string(f) + " declares " +
+                                   std::to_string(n) + " corners, the file ends first");
+    }
+    for (unsigned long long c = 0; c < n; ++c, pos += 4) {
+      const uint32_t idx = load_le32(bytes.data() + pos);
+      if (idx >= nv) {
+        return parse_error(path, "face " + std::to_string(f) + " refers to vertex " +
+                                     std::to_string(idx) + " but there are " + std::to_string(nv) +
+                                     " vertices");
       }
     }
-    if (header_seen == 1) {
-      if (t.size() < 2 ||
-          std::from_chars(t[0].data(), t[0].data() + t[0].size(), nv).ec != std::errc() ||
-          std::from_chars(t[1].data(), t[1].data() + t[1].size(), nf).ec != std::errc() || nv < 0 ||
-          nf < 0) {
-        err = parse_error(
-            path, "line " + std::to_string(line_no) + ": expected 'vertices faces edges' counts");
-        return false;
-      }
-      // Every vertex line needs at least "x y z\n" (6 bytes), every face "3 a b c\n".
-      if (static_cast<double>(nv) * 6 + static_cast<double>(nf) * 8 >
-          static_cast<double>(text.size())) {
-        err = parse_error(
-            path, "line " + std::to_string(line_no) + ": header declares " + std::to_string(nv) +
-                      " vertices and " + std::to_string(nf) +
-                      " faces, more than the file can hold (truncated or lying header)");
-        return false;
-      }
-      header_seen = 2;
-      return true;
-    }
-    if (vertices_seen < nv) {
-      ++vertices_seen;
-      for (std::size_t i = 0; i < 3; ++i) {
-        std::optional<double> x = i < t.size() ? parse_number(t[i]) : std::nullopt;
-        if (!x || !std::isfinite(static_cast<float>(*x))) {
-          err =
-              parse_error(path, "line " + std::to_string(line_no) + ": vertex coordinate '" +
-                                    (i < t.size() ? std::string(t[i]) : std::string("(missing)")) +
-                                    "' is not a finite number");
-          return false;
-        }
-      }
-      return true;
-    }
-    if (faces_seen < nf) {
-      ++faces_seen;
-      long long n = 0;
-      if (std::from_chars(t[0].data(), t[0].data() + t[0].size(), n).ec != std::errc() || n < 0 ||
-          static_cast<std::size_t>(n) + 1 > t.size()) {
-        err = parse_error(
-            path, "line " + std::to_string(line_no) + ": face has fewer indices than its count");
-        return false;
-      }
-      for (long long i = 1; i <= n; ++i) {
-        long long k = 0;
-        if (std::from_chars(t[i].data(), t[i].data() + t[i].size(), k).ec != std::errc() || k < 0 ||
-            k >= nv) {
-          err = parse_error(path, "line " + std::to_string(line_no) + ": face index '" +
-                                      std::string(t[i]) + "' is out of range (" +
-                                      std::to_string(nv) + " vertices)");
-          return false;
-        }
-      }
-      return true;
+  }
+  return ok_status();
+}
+
+Expected<MeshData> read_off_ascii(const fs::path& path, std::string_view text) {
+  // Content lines: comments ('#' to the end of the line) and blank lines skipped.
+  std::size_t pos = 0, line_no = 0;
+  std::vector<std::string_view> t;
+  auto next_line = [&]() -> bool {
+    while (pos < text.size()) {
+      std::size_t end = text.find('\n', pos);
+      if (end == std::string_view::npos) end = text.size();
+      std::string_view line = text.substr(pos, end - pos);
+      pos = end + 1;
+      ++line_no;
+      t = tokens(line.substr(0, line.find('#')));
+      if (!t.empty()) return true;
     }
     return false;
-  });
-  if (err) return *err;
-  if (header_seen == 2 && (vertices_seen < nv || faces_seen < nf)) {
+  };
+  auto at = [&] { return "line " + std::to_string(line_no) + ": "; };
+  if (!next_line()) return parse_error(path, "no 'OFF' keyword (the file has no content)");
+  const std::optional<OffKeyword> k = off_keyword(t[0]);
+  if (!k)
+    return parse_error(path, at() + "not an OFF file (expected the keyword 'OFF', got '" +
+                                 std::string(t[0]) + "')");
+  if (k->high_dimension) {
+    return parse_error(
+        path, at() + "'" + std::string(t[0]) + "': 4D and n-dimensional OFF are not supported");
+  }
+  t.erase(t.begin());
+  if (t.empty() && !next_line()) return parse_error(path, "no vertex/face counts after 'OFF'");
+  unsigned long long nv = 0, nf = 0;
+  if (t.size() < 2 || !parse_int(t[0], nv) || !parse_int(t[1], nf)) {
+    return parse_error(path, at() + "expected 'vertices faces edges' counts");
+  }
+  // Every vertex line needs at least "x y z\n" (6 bytes), every face "n\n"
+  // (2 bytes): reject a lying header before allocating anything.
+  if (static_cast<double>(nv) * 6 + static_cast<double>(nf) * 2 >
+      static_cast<double>(text.size()) + 1) {
+    return parse_error(path, at() + "header declares " + std::to_string(nv) + " vertices and " +
+                                 std::to_string(nf) +
+                                 " faces, more than the file can hold (truncated or lying header)");
+  }
+  auto truncated = [&](unsigned long long vertices, unsigned long long faces) {
     return parse_error(path, "truncated: header declares " + std::to_string(nv) + " vertices and " +
                                  std::to_string(nf) + " faces, the file ends after " +
-                                 std::to_string(vertices_seen) + " vertices and " +
-                                 std::to_string(faces_seen) + " faces (line " + std::to_string(no) +
+                                 std::to_string(vertices) + " vertices and " +
+                                 std::to_string(faces) + " faces (line " + std::to_string(line_no) +
                                  ")");
+  };
+  MeshData mesh;
+  mesh.positions.reserve(nv);
+  if (k->normals) mesh.normals.reserve(nv);
+  const std::size_t fixed = 3 + (k->normals ? 3 : 0);
+  for (unsigned long long i = 0; i < nv; ++i) {
+    if (!next_line()) return truncated(i, 0);
+    double x[6] = {0, 0, 0, 0, 0, 0};
+    for (std::size_t j = 0; j < fixed; ++j) {
+      std::optional<double> v = j < t.size() ? parse_number(t[j]) : std::nullopt;
+      if (!v || !std::isfinite(static_cast<float>(*v))) {
+        return parse_error(path, at() + (j < 3 ? "vertex coordinate '" : "vertex normal '") +
+                                     (j < t.size() ? std::string(t[j]) : std::string("(missing)")) +
+                                     "' is not a finite number");
+      }
+      x[j] = *v;
+    }
+    mesh.positions.push_back(
+        {static_cast<float>(x[0]), static_cast<float>(x[1]), static_cast<float>(x[2])});
+    if (k->normals) {
+      mesh.normals.push_back(
+          {static_cast<float>(x[3]), static_cast<float>(x[4]), static_cast<float>(x[5])});
+    }
+    // Colour: 3 or 4 values after the coordinates (and before s t), floats in
+    // [0, 1] if written with a '.' or exponent, else integers in [0, 255]; a
+    // single colour-map index is ignored (there is no map).
+    const std::size_t extra = t.size() - fixed - (k->texcoords && t.size() >= fixed + 2 ? 2 : 0);
+    if (k->colors && (extra == 3 || extra == 4)) {
+      std::array<float, 4> c = {0, 0, 0, 1};
+      bool is_float = false;
+      for (std::size_t j = 0; j < extra; ++j)
+        is_float |= t[fixed + j].find_first_of(".eE") != std::string_view::npos;
+      for (std::size_t j = 0; j < extra; ++j) {
+        std::optional<double> v = parse_number(t[fixed + j]);
+        if (!v || !std::isfinite(*v)) {
+          return parse_error(
+              path, at() + "vertex colour '" + std::string(t[fixed + j]) + "' is not a number");
+        }
+        c[j] = static_cast<float>(is_float ? *v : *v / 255.0);
+      }
+      if (mesh.vertex_colors.empty()) mesh.vertex_colors.resize(nv, {1, 1, 1, 1});
+      mesh.vertex_colors[i] = c;
+    }
   }
-  if (header_seen < 2 && has_keyword) return parse_error(path, "no vertex/face counts after 'OFF'");
-  return ok_status();
+  mesh.face_offsets.reserve(nf + 1);
+  mesh.face_offsets.push_back(0);
+  for (unsigned long long f = 0; f < nf; ++f) {
+    if (!next_line()) return truncated(nv, f);
+    unsigned long long n = 0;
+    if (!parse_int(t[0], n) || n + 1 > t.size()) {
+      return parse_error(path, at() + "face has fewer indices than its count");
+    }
+    if (n > kMaxFaceCorners) return parse_error(path, at() + "face " + too_many_corners(n));
+    for (unsigned long long c = 1; c <= n; ++c) {
+      unsigned long long idx = 0;
+      if (!parse_int(t[c], idx) || idx >= nv) {
+        return parse_error(path, at() + "face index '" + std::string(t[c]) + "' is out of range (" +
+                                     std::to_string(nv) + " vertices)");
+      }
+      mesh.face_vertices.push_back(static_cast<uint32_t>(idx));
+    }
+    mesh.face_offsets.push_back(static_cast<uint32_t>(mesh.face_vertices.size()));
+  }
+  if (k->normals) mesh.corner_normal.assign(mesh.face_vertices.begin(), mesh.face_vertices.end());
+  return mesh;
 }
 
 // Binary STL is 80 + 4 + 50 * count bytes; OpenMesh reads past a short file.
@@ -713,9 +893,24 @@ Expected<MeshData> read_through_openmesh(const fs::path& path, const std::string
   if (!bytes) return bytes.error();
   if (bytes->empty()) return parse_error(path, "the file is empty");
   if (ext == ".off") {
-    if (Status s = check_off(path, *bytes); !s) return s.error();
+    // Binary exactly as OpenMesh's OFFReader::can_u_read detects it: the
+    // keyword at the start of the file, one character, "BINARY".
+    const std::string_view b = *bytes;
+    const auto first = tokens(b.substr(0, std::min(b.find('\n'), b.size())));
+    const std::optional<OffKeyword> k =
+        first.empty() || first[0].data() != b.data() ? std::nullopt : off_keyword(first[0]);
+    if (!k || first[0].size() + 1 > b.size() || b.substr(first[0].size() + 1, 6) != "BINARY")
+      return read_off_ascii(path, b);
+    if (k->high_dimension) return parse_error(path, "4D and n-dimensional OFF are not supported");
+    if (Status s = check_off_binary(path, b, *k); !s) return s.error();
   } else if (ext == ".stl") {
     if (Status s = check_stl(path, *bytes); !s) return s.error();
+  }
+  std::size_t obj_v_lines = 0;
+  if (ext == ".obj") {
+    Expected<std::size_t> v = check_obj(path, *bytes);
+    if (!v) return v.error();
+    obj_v_lines = *v;
   }
   ArrayImporter importer(ext == ".obj" ? ArrayImporter::Normals::kPerCorner
                                        : ArrayImporter::Normals::kPerVertex);
@@ -725,12 +920,12 @@ Expected<MeshData> read_through_openmesh(const fs::path& path, const std::string
   importer.complete();
   MeshData& mesh = importer.mesh();
   if (ext == ".obj") {
-    if (Status s = check_obj(path, *bytes, mesh); !s) return s.error();
-    bool bad = importer.bad_index().has_value();
-    for (uint32_t v : mesh.face_vertices) bad = bad || v >= mesh.vertex_count();
-    if (bad) {
-      std::string msg = obj_bad_index_message(path, *bytes);
-      if (!msg.empty()) return parse_error(path, msg);
+    // A number strtod reads but OpenMesh's istream does not (e.g. hex
+    // floats) makes OpenMesh skip the vertex and shift the indices.
+    if (obj_v_lines != mesh.vertex_count()) {
+      return parse_error(path, "has " + std::to_string(obj_v_lines) + " vertex lines but " +
+                                   std::to_string(mesh.vertex_count()) +
+                                   " vertices could be read (numbers texbake cannot read?)");
     }
     // map_Kd of the material the faces use (else the first one defined).
     const auto& tex = importer.textures();
@@ -850,8 +1045,7 @@ Expected<PlyHeader> parse_ply_header(const fs::path& path, std::string_view byte
       have_format = true;
     } else if (t[0] == "element") {
       unsigned long long count = 0;
-      if (t.size() != 3 ||
-          std::from_chars(t[2].data(), t[2].data() + t[2].size(), count).ec != std::errc() ||
+      if (t.size() != 3 || !parse_int(t[2], count) ||
           count > std::numeric_limits<uint32_t>::max()) {
         return parse_error(path, at + "bad element line '" + std::string(line) + "'");
       }
@@ -1065,6 +1259,9 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
   const char* p = bytes.data() + s.header.data_offset;
   const char* end = bytes.data() + bytes.size();
   for (const PlyElement& e : s.header.elements) {
+    // Nothing to read (and a huge count must not cost a loop: the fuzzer
+    // found "element x 1899460386" without properties running for minutes).
+    if (e.properties.empty()) continue;
     const bool is_vertex = &e == s.vertex_element;
     const bool is_face = &e == s.face_element;
     // Fixed-size records (no lists): one bounds check per element.
@@ -1091,6 +1288,12 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
       for (std::size_t k = 0; k < e.properties.size(); ++k) {
         const PlyProperty& prop = e.properties[k];
         if (!prop.is_list) {
+          // Records with a list have no up-front bounds check: check each
+          // value (found by the fuzzer: a vertex element with a list).
+          if (!fixed && end - p < static_cast<std::ptrdiff_t>(ply_size(prop.type))) {
+            return parse_error(s.path, "truncated: the file ends in " + e.name + " " +
+                                           std::to_string(i) + " of " + std::to_string(e.count));
+          }
           if (is_vertex) v.set(s.layout.targets[k], load_as_double(prop.type, p, swap), cscale[k]);
           p += ply_size(prop.type);
           continue;
@@ -1106,6 +1309,8 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
           return parse_error(s.path,
                              e.name + " " + std::to_string(i) + " has a negative list length");
         const std::size_t n = static_cast<std::size_t>(n_d);
+        if (is_face && k == s.face_property && n > kMaxFaceCorners)
+          return parse_error(s.path, e.name + " " + std::to_string(i) + " " + too_many_corners(n));
         const std::size_t vs = ply_size(prop.type);
         if (static_cast<std::size_t>(end - p) / vs < n) {
           return parse_error(s.path, "truncated: the file ends in " + e.name + " " +
@@ -1176,6 +1381,9 @@ Status read_ply_ascii(PlyReadState& s, std::string_view bytes) {
     return *v;
   };
   for (const PlyElement& e : s.header.elements) {
+    // Nothing to read (and a huge count must not cost a loop: the fuzzer
+    // found "element x 1899460386" without properties running for minutes).
+    if (e.properties.empty()) continue;
     const bool is_vertex = &e == s.vertex_element;
     const bool is_face = &e == s.face_element;
     std::vector<float> cscale(e.properties.size());
@@ -1203,6 +1411,10 @@ Status read_ply_ascii(PlyReadState& s, std::string_view bytes) {
         if (!n_d) return n_d.error();
         if (*n_d < 0 || *n_d != std::floor(*n_d) || *n_d > 1e6) {
           return parse_error(s.path, at() + "bad list length '" + std::string(tok) + "'");
+        }
+        if (is_face && k == s.face_property && *n_d > static_cast<double>(kMaxFaceCorners)) {
+          return parse_error(s.path, at() + e.name + " " + std::to_string(i) + " " +
+                                         too_many_corners(static_cast<std::size_t>(*n_d)));
         }
         const std::size_t n = static_cast<std::size_t>(*n_d);
         for (std::size_t j = 0; j < n; ++j) {

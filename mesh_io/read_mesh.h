@@ -12,6 +12,12 @@
 // - Errors (kIo: missing, unreadable, a folder; kParse: unknown extension,
 //   truncated or lying header, NaN/inf coordinates, out-of-range or negative
 //   indices, no faces) name the file and, where known, the line or element.
+// - Work limits (issue #7; a small hostile file must not run for minutes
+//   or allocate gigabytes): declared counts are checked against the file's
+//   size before allocating; a polygon has at most 16384 corners (else
+//   kParse); non-convex polygons above 512 corners are fanned, not ear
+//   clipped; an OBJ `mtllib` naming something other than a regular file
+//   (a folder, a device) is kParse.
 // - Degenerate triangles, unreferenced vertices and non-manifold edges are
 //   not errors: they are counted in MeshIssues.
 // - Thread-safe (OpenMesh's reader singletons are serialised internally).

@@ -13,6 +13,7 @@ texbake_packages=(
   libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libtinygltf-dev
   libgtest-dev libbenchmark-dev
+  clang libclang-rt-dev
 )
 
 texbake_install_packages() {
