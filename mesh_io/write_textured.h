@@ -26,6 +26,9 @@
 
 namespace texbake {
 
+// PNG atlases are written at this zlib level: MEASURED_LATER.
+inline constexpr int kAtlasPngCompression = 6;
+
 struct TexturedWriteOptions {
   // Atlas encoding: k8 / k16 -> PNG, kFloat -> EXR (OBJ only: a GLB embeds
   // PNG, so kFloat there is kUnsupported).
@@ -33,6 +36,9 @@ struct TexturedWriteOptions {
   // GLB sampler: REPEAT in u (wrapS) when the layout is periodic in u
   // (--uv proxy on sphere, cylinder, cone, disk), else CLAMP_TO_EDGE.
   bool repeat_u = false;
+  // zlib level of the PNG atlas (lossless at any level; see
+  // kAtlasPngCompression).
+  int png_compression = kAtlasPngCompression;
 };
 
 // The atlas file written beside a textured OBJ: same folder and stem,
