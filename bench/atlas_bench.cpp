@@ -29,6 +29,7 @@
 #include <string>
 
 #include "bake/bake_atlas.h"
+#include "bake/bake_vertex.h"
 #include "bake/dilate.h"
 #include "bake/uv_generate.h"
 #include "mesh_io/image_io.h"
@@ -224,6 +225,61 @@ BENCHMARK(BM_AtlasJob)
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);
+
+// The --occluded fill's per-vertex bake as bake_atlas runs it (bilinear
+// filter, visibility, fill) on the laid-out mesh: its own stages.
+void BM_AtlasFillVertexBake(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const Layout& l = layout(which, 2048);
+  VertexBakeOptions vo;
+  vo.filter = VertexFilter::kBilinear;
+  VertexBakeTimings t;
+  for (auto _ : state) {
+    Expected<VertexBakeResult> r = bake_vertex(l.mesh, earth().view(), sphere_around(l.mesh), vo);
+    if (!r) die(r.error().message);
+    t = r->timings;
+  }
+  state.counters["scene_build"] = t.scene_build;
+  state.counters["bake"] = t.bake;
+  state.counters["fill"] = t.fill;
+}
+BENCHMARK(BM_AtlasFillVertexBake)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+// The PNG atlas write at each zlib level (TexturedWriteOptions::png_compression):
+// seconds and bytes of the padded bunny atlas (2048 or 4096, 4 samples), the
+// measurement behind kAtlasPngCompression.
+void BM_AtlasPngLevel(benchmark::State& state) {
+  const int size = static_cast<int>(state.range(0));
+  static std::map<int, Image> atlases;
+  if (!atlases.count(size)) {
+    const Layout& l = layout(0, size);
+    AtlasBakeOptions options;
+    options.size = size;
+    Expected<AtlasBakeResult> r =
+        bake_atlas(l.mesh, earth().view(), sphere_around(l.mesh), options);
+    if (!r) die(r.error().message);
+    atlases[size] = std::move(r->atlas);
+  }
+  const Image& atlas = atlases[size];
+  ImageWriteOptions o;
+  o.png_compression = static_cast<int>(state.range(1));
+  const fs::path out = temp_dir() / "texbake_atlas_bench_level.png";
+  for (auto _ : state) {
+    if (Status s = write_image(out, atlas.view(), o); !s) {
+      state.SkipWithError(s.error().message.c_str());
+      return;
+    }
+  }
+  state.counters["MB"] = static_cast<double>(fs::file_size(out)) / 1e6;
+  std::error_code ec;
+  fs::remove(out, ec);
+}
+BENCHMARK(BM_AtlasPngLevel)
+    ->ArgNames({"size", "level"})
+    ->ArgsProduct({{2048, 4096}, {1, 2, 3, 4, 6}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 
 // Writes the laid-out meshes as OBJ with vt for CLI timing (see the top).
 void BM_AtlasWriteLayout(benchmark::State& state) {
