@@ -387,6 +387,83 @@ Expected<std::array<Vec3, 4>> fit_rectangle(std::span<const Float3> input,
   return std::array<Vec3, 4>{p00, p00 + du, p00 + du + dv, p00 + dv};
 }
 
+// The cone's radius-versus-height profile: in each of up to kMaxProfileBins
+// height bins, the points within kShellBand of the bin's largest radius form
+// the outer shell (a cap, interior or an inner wall lie further in and drop
+// out); the shell's mean (h, rho) lies on the cone's generator, unbiased by
+// noise that is symmetric about the surface. (The bin maxima alone would be
+// biased outwards by the noise, which moves the apex by noise /
+// sin(half-angle).) Precondition: h_max > h_min.
+std::vector<K::Point_2> shell_profile(const std::vector<double>& h, const std::vector<double>& rho,
+                                      double h_min, double h_max) {
+  const std::size_t n = h.size();
+  double rho_max = 0;
+  for (double r : rho) rho_max = std::max(rho_max, r);
+  const int bins = static_cast<int>(std::clamp<std::size_t>(n / kPointsPerBin, 2, kMaxProfileBins));
+  const double extent = h_max - h_min;
+  auto bin_of = [&](std::size_t i) {
+    return std::clamp(static_cast<int>((h[i] - h_min) / extent * bins), 0, bins - 1);
+  };
+  std::vector<double> bin_max(bins, -1);
+  for (std::size_t i = 0; i < n; ++i) bin_max[bin_of(i)] = std::max(bin_max[bin_of(i)], rho[i]);
+  const double band = kShellBand * rho_max;
+  std::vector<double> sum_h(bins, 0), sum_rho(bins, 0);
+  std::vector<std::size_t> count(bins, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int b = bin_of(i);
+    if (rho[i] < bin_max[b] - band) continue;
+    sum_h[b] += h[i];
+    sum_rho[b] += rho[i];
+    ++count[b];
+  }
+  std::vector<K::Point_2> profile;
+  for (int b = 0; b < bins; ++b) {
+    if (count[b] > 0) profile.emplace_back(sum_h[b] / count[b], sum_rho[b] / count[b]);
+  }
+  return profile;
+}
+
+// The axis direction of a cylinder or cone: the fixed one, else the symmetry
+// axis of the principal components.
+Expected<Vec3> axis_direction(const LocalPoints& local, const FitOptions& options,
+                              const char* kind) {
+  if (options.axis) return unit_direction(*options.axis, kind, "the axis");
+  return symmetry_axis(principal_components(local.points));
+}
+
+// The points relative to a given axis line through `anchor` (local
+// coordinates): h along the axis, rho the distance from the line.
+struct AnchoredFrame {
+  std::vector<double> h, rho;
+  double h_min = 0, h_max = 0, rho_max = 0;
+};
+
+AnchoredFrame anchored_frame(const LocalPoints& local, Vec3 anchor, Vec3 axis) {
+  AnchoredFrame f;
+  const std::size_t n = local.points.size();
+  f.h.resize(n);
+  f.rho.resize(n);
+  f.h_min = std::numeric_limits<double>::infinity();
+  f.h_max = -f.h_min;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 d = to_vec(local.points[i]) - anchor;
+    f.h[i] = dot(d, axis);
+    f.rho[i] = length(d - axis * f.h[i]);
+    f.h_min = std::min(f.h_min, f.h[i]);
+    f.h_max = std::max(f.h_max, f.h[i]);
+    f.rho_max = std::max(f.rho_max, f.rho[i]);
+  }
+  return f;
+}
+
+// Negates h and swaps the extents: the same frame seen along -axis.
+void flip(AnchoredFrame& f) {
+  for (double& h : f.h) h = -h;
+  f.h_min = -f.h_min;
+  f.h_max = -f.h_max;
+  std::swap(f.h_min, f.h_max);
+}
+
 }  // namespace
 
 std::vector<Float3> fit_points(const MeshData& mesh) {
@@ -403,6 +480,58 @@ std::vector<Float3> fit_points(const MeshData& mesh) {
   return out;
 }
 
+namespace {
+
+// The cone with a given apex: the axis line passes through it, and the
+// generator is the line through the apex that best fits the shell profile
+// (orthogonal regression through the origin: the principal direction of the
+// profile's second moments about the apex, closed form for 2 x 2).
+Expected<ConeParams> fit_cone_through_apex(const LocalPoints& local, const FitOptions& options) {
+  constexpr const char* kKind = "cone";
+  const double zero = kZeroRelative * local.diagonal;
+  auto axis = axis_direction(local, options, kKind);
+  if (!axis) return axis.error();
+  const bool keep_sign = options.axis && options.keep_axis_sign;
+  // t = distance below the apex along the axis (the axis points from the
+  // base towards the apex, so the points should have t > 0).
+  Vec3 dir = *axis;
+  AnchoredFrame a = anchored_frame(local, *options.anchor - local.offset, -dir);
+  if (!keep_sign && -a.h_min > a.h_max) {  // the points lie on the axis' tip side
+    dir = -dir;
+    flip(a);
+  }
+  if (!(a.h_max > zero)) {
+    return invalid(kKind, keep_sign ? "every point lies beyond the given apex along the given "
+                                      "axis (the axis points from the base towards the apex: "
+                                      "reverse it)"
+                                    : "the points have no extent along the axis");
+  }
+  if (!(a.rho_max > zero))
+    return invalid(kKind, "the points lie on the axis (no radius around it)");
+  const std::vector<K::Point_2> profile = shell_profile(a.h, a.rho, a.h_min, a.h_max);
+  double stt = 0, str = 0, srr = 0;
+  for (const K::Point_2& p : profile) {
+    stt += p.x() * p.x();
+    str += p.x() * p.y();
+    srr += p.y() * p.y();
+  }
+  // Principal direction (cos th, sin th) of [[stt, str], [str, srr]].
+  const double th = 0.5 * std::atan2(2 * str, stt - srr);
+  const double slope = std::tan(th);  // radius per unit of distance below the apex
+  if (!(slope > 0) || !std::isfinite(slope)) {
+    return invalid(kKind, "the points do not widen away from the given apex");
+  }
+  ConeParams c;
+  c.apex = *options.anchor;
+  c.axis = tidy(dir);
+  c.equator = tidy(equator_for(c.axis));
+  c.height = options.height ? *options.height : a.h_max;
+  c.radius = slope * c.height;
+  return c;
+}
+
+}  // namespace
+
 Expected<SphereParams> fit_sphere(std::span<const Float3> input, const FitOptions& options) {
   constexpr const char* kKind = "sphere";
   auto local = prepare_points(input, kKind);
@@ -412,6 +541,25 @@ Expected<SphereParams> fit_sphere(std::span<const Float3> input, const FitOption
   if (!pole) return pole.error();
   const Vec3 up_pole =
       options.axis && !options.keep_axis_sign ? orient_up(*pole, options.up) : *pole;
+
+  if (options.anchor) {
+    // A given centre: the smallest sphere around it that encloses every point.
+    const Vec3 center = *options.anchor - local->offset;
+    double r2 = 0;
+    for (const K::Point_3& p : local->points) {
+      const Vec3 d = to_vec(p) - center;
+      r2 = std::max(r2, dot(d, d));
+    }
+    if (!(std::sqrt(r2) > kZeroRelative * local->diagonal)) {
+      return invalid(kKind, "every point lies at the given centre");
+    }
+    SphereParams s;
+    s.center = *options.anchor;
+    s.radius = std::sqrt(r2);
+    s.pole = tidy(up_pole);
+    s.equator = tidy(equator_for(up_pole));
+    return s;
+  }
 
   // Min_sphere_of_spheres_d on points (radius 0): expected linear time, robust
   // in double (CGAL manual, "Bounding Volumes", Min_sphere_of_spheres_d).
@@ -441,11 +589,37 @@ Expected<CylinderParams> fit_cylinder(std::span<const Float3> input, const FitOp
   if (!local) return local.error();
   auto up = unit_direction(options.up, kKind, "up");
   if (!up) return up.error();
+  const bool keep_sign = options.axis && options.keep_axis_sign;
+  const double zero = kZeroRelative * local->diagonal;
+  if (options.anchor) {
+    // A given base centre: the axis line passes through it.
+    auto axis = axis_direction(*local, options, kKind);
+    if (!axis) return axis.error();
+    Vec3 dir = *axis;
+    AnchoredFrame a = anchored_frame(*local, *options.anchor - local->offset, dir);
+    if (!keep_sign && -a.h_min > a.h_max) {  // the points lie on the -axis side
+      dir = -dir;
+      flip(a);
+    }
+    if (!(a.h_max > zero)) {
+      return invalid(kKind, keep_sign ? "every point lies behind the given base along the given "
+                                        "axis (reverse the axis or move the base)"
+                                      : "the points have no extent along the axis");
+    }
+    if (!(a.rho_max > zero))
+      return invalid(kKind, "the points lie on the axis (no radius around it)");
+    CylinderParams c;
+    c.base = *options.anchor;
+    c.axis = tidy(dir);
+    c.equator = tidy(equator_for(c.axis));
+    c.radius = a.rho_max;
+    c.height = a.h_max;
+    return c;
+  }
   auto frame = axis_frame(*local, options, kKind);
   if (!frame) return frame.error();
   AxisFrame& f = *frame;
-  const bool flip =
-      !(options.axis && options.keep_axis_sign) && dot(orient_up(f.axis, *up), f.axis) < 0;
+  const bool flip = !keep_sign && dot(orient_up(f.axis, *up), f.axis) < 0;
   CylinderParams c;
   c.radius = f.circle.radius;
   c.height = f.h_max - f.h_min;
@@ -467,44 +641,19 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
   if (!local) return local.error();
   auto up = unit_direction(options.up, kKind, "up");
   if (!up) return up.error();
+  if (options.height && !(*options.height > 0)) return invalid(kKind, "the height is not positive");
+  if (options.anchor) return fit_cone_through_apex(*local, options);
   auto frame = axis_frame(*local, options, kKind);
   if (!frame) return frame.error();
   const AxisFrame& f = *frame;
   const std::size_t n = f.h.size();
+  const double extent = f.h_max - f.h_min;
 
-  // Radius-versus-height profile. In each height bin, the points within
-  // kShellBand of the bin's largest radius form the outer shell (a cap,
-  // interior or an inner wall lie further in and drop out); the shell's mean
-  // (h, rho) lies on the cone's generator, unbiased by noise that is
-  // symmetric about the surface. (The bin maxima alone would be biased
-  // outwards by the noise, which moves the apex by noise / sin(half-angle).)
   std::vector<double> rho(n);
-  double rho_max = 0;
   for (std::size_t i = 0; i < n; ++i) {
     rho[i] = std::hypot(f.across[i].x() - f.circle.x, f.across[i].y() - f.circle.y);
-    rho_max = std::max(rho_max, rho[i]);
   }
-  const int bins = static_cast<int>(std::clamp<std::size_t>(n / kPointsPerBin, 2, kMaxProfileBins));
-  const double extent = f.h_max - f.h_min;
-  auto bin_of = [&](std::size_t i) {
-    return std::min(bins - 1, static_cast<int>((f.h[i] - f.h_min) / extent * bins));
-  };
-  std::vector<double> bin_max(bins, -1);
-  for (std::size_t i = 0; i < n; ++i) bin_max[bin_of(i)] = std::max(bin_max[bin_of(i)], rho[i]);
-  const double band = kShellBand * rho_max;
-  std::vector<double> sum_h(bins, 0), sum_rho(bins, 0);
-  std::vector<std::size_t> count(bins, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const int b = bin_of(i);
-    if (rho[i] < bin_max[b] - band) continue;
-    sum_h[b] += f.h[i];
-    sum_rho[b] += rho[i];
-    ++count[b];
-  }
-  std::vector<K::Point_2> profile;
-  for (int b = 0; b < bins; ++b) {
-    if (count[b] > 0) profile.emplace_back(sum_h[b] / count[b], sum_rho[b] / count[b]);
-  }
+  const std::vector<K::Point_2> profile = shell_profile(f.h, rho, f.h_min, f.h_max);
   if (profile.size() < 2) return invalid(kKind, "the points have no extent along the axis");
 
   // Orthogonal regression (CGAL) rather than ordinary least squares, so a
@@ -532,7 +681,9 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
                        std::to_string(static_cast<int>(kMaxApexDistance)) +
                        " times the height away); fit a cylinder instead");
   }
-  const double radius = intercept + slope * h_base;
+  // A given height moves the base plane along the fitted generator.
+  const double radius =
+      options.height ? std::abs(slope) * *options.height : intercept + slope * h_base;
   if (!(radius > kZeroRelative * local->diagonal)) {
     return invalid(kKind, "the points do not narrow towards an apex");
   }
@@ -544,7 +695,7 @@ Expected<ConeParams> fit_cone(std::span<const Float3> input, const FitOptions& o
   ConeParams c;
   c.axis = apex_up ? f.axis : -f.axis;
   c.apex = axis_point(f, *local, h_apex);
-  c.height = std::abs(h_apex - h_base);
+  c.height = options.height ? *options.height : std::abs(h_apex - h_base);
   c.radius = radius;
   c.axis = tidy(c.axis);
   c.equator = tidy(equator_for(c.axis));
@@ -564,6 +715,25 @@ Expected<DiskParams> fit_disk(std::span<const Float3> input, const FitOptions& o
   auto sides = min_rectangle_sides(*frame, local->diagonal, kKind);
   if (!sides) return sides.error();
   const PlaneFrame& f = *frame;
+  if (options.anchor) {
+    // A given centre: the radius reaches the farthest point in the plane.
+    const Vec3 center = *options.anchor - local->offset;
+    double r2 = 0;
+    for (const K::Point_3& q : local->points) {
+      const Vec3 w = to_vec(q) - center;
+      const Vec3 in_plane = w - f.normal * dot(w, f.normal);
+      r2 = std::max(r2, dot(in_plane, in_plane));
+    }
+    if (!(std::sqrt(r2) > kZeroRelative * local->diagonal)) {
+      return invalid(kKind, "every point lies on the normal through the given centre");
+    }
+    DiskParams d;
+    d.center = *options.anchor;
+    d.normal = tidy(f.normal);
+    d.equator = tidy(f.basis.e1);
+    d.radius = std::sqrt(r2);
+    return d;
+  }
   const Circle circle = min_enclosing_circle(f.hull, f.projected);
   DiskParams d;
   d.center = f.origin + f.basis.e1 * circle.x + f.basis.e2 * circle.y;
@@ -583,7 +753,24 @@ Expected<PlaneParams> fit_plane(std::span<const Float3> input, const FitOptions&
   auto corners = fit_rectangle(input, options, "plane");
   if (!corners) return corners.error();
   const auto& p = *corners;
-  return PlaneParams{p[0], p[1] - p[0], p[3] - p[0]};
+  if (!options.anchor) return PlaneParams{p[0], p[1] - p[0], p[3] - p[0]};
+  // A given origin: the fitted rectangle's directions, lengths reaching the
+  // farthest point (points on the origin's negative side clamp).
+  const Vec3 origin = *options.anchor;
+  const Vec3 u = normalize(p[1] - p[0]), v = normalize(p[3] - p[0]);
+  double u_len = 0, v_len = 0;
+  for (const Float3& q : input) {
+    const Vec3 w = Vec3{q.x, q.y, q.z} - origin;
+    u_len = std::max(u_len, dot(w, u));
+    v_len = std::max(v_len, dot(w, v));
+  }
+  const double zero = kZeroRelative * length(p[2] - p[0]);
+  if (!(u_len > zero) || !(v_len > zero)) {
+    return invalid("plane", std::string("no point lies on the positive ") +
+                                (u_len > zero ? "v" : "u") +
+                                " side of the given origin (the fitted axes would have no length)");
+  }
+  return PlaneParams{origin, u * u_len, v * v_len};
 }
 
 Expected<ProxyParams> fit_proxy(ProxyKind kind, std::span<const Float3> points,

@@ -86,6 +86,28 @@ struct FitOptions {
   // false: only its line is fixed; the sign follows the rules above (up
   // hemisphere, cone towards its apex), as for the --up shorthand.
   bool keep_axis_sign = true;
+  // Values the user fixed (given flags). The fit keeps them and fits the
+  // remaining parameters *around them* (not around values it would have
+  // fitted itself):
+  //  - anchor: the sphere's centre (radius = the largest distance of a point
+  //    from it), the disk's centre (radius = the largest in-plane distance),
+  //    the cylinder's base centre (the axis line passes through it; radius =
+  //    the largest distance from that line; height = the points' extent
+  //    beyond the base), the cone's apex (the generator is fitted through
+  //    it: a line through the origin of the distance-below-apex versus
+  //    radius profile; height = the points' extent below the apex unless
+  //    `height` is given; radius = slope * height), the plane's origin (the
+  //    axes keep the fitted rectangle's directions, their lengths reach the
+  //    farthest point). Without a fixed axis direction, a cylinder's or cone's
+  //    axis sign is chosen so the points lie on the side of the base (towards
+  //    the apex's base) where they extend further.
+  //  - height: the cone's base plane lies `height` below the apex (fitted or
+  //    given); its radius is the fitted generator's radius there. (A
+  //    cylinder's given height needs nothing re-fitted: the base stays at the
+  //    points' low end.)
+  // Radius and the equator need no re-fit: nothing else depends on them.
+  std::optional<Vec3> anchor;
+  std::optional<double> height;
 };
 
 // The points a mesh's fit uses: the vertices referenced by at least one face,

@@ -37,15 +37,20 @@ ordered_json color_json(const Rgba& c) {
 std::string report_json(const BakeReport& r) {
   ordered_json j;
   j["command"] = "bake";
-  j["target"] = "vertex";
+  const bool atlas = r.atlas_counts.has_value();
+  j["target"] = atlas ? "atlas" : "vertex";
   ordered_json& inputs = j["inputs"];
   inputs["mesh"] = r.mesh_path;
   inputs["texture"] = r.texture_path;
   inputs["output"] = r.output_path;
   inputs["image"] = {{"width", r.image_width}, {"height", r.image_height}};
   ordered_json& o = inputs["options"];
-  o["filter"] = name(r.options.filter);
-  o["samples"] = r.options.filter == VertexFilter::kArea ? r.options.samples : 1;
+  if (atlas) {
+    o["samples"] = r.atlas_samples;
+  } else {
+    o["filter"] = name(r.options.filter);
+    o["samples"] = r.options.filter == VertexFilter::kArea ? r.options.samples : 1;
+  }
   o["visibility"] = name(r.options.visibility);
   switch (r.options.occluded) {
     case OccludedMode::kFill:
@@ -64,22 +69,44 @@ std::string report_json(const BakeReport& r) {
   o["linear"] = r.options.linear;
   o["threads"] = r.threads;
   j["proxy"] = proxy_json(r.proxy);
+  j["proxy_fitted"] = r.fitted_flags;
   ordered_json& c = j["counts"];
   c["vertices"] = r.counts.vertices;
   c["triangles"] = r.counts.triangles;
   c["degenerate_skipped"] = r.degenerate_skipped;
   c["unreferenced_vertices"] = r.unreferenced_vertices;
-  c["samples"] = r.counts.samples;
-  c["occluded"] = r.counts.occluded;
-  c["undefined"] = r.counts.undefined;
-  c["outside"] = r.counts.outside;
-  c["filled"] = r.counts.filled;
-  c["unfilled"] = r.counts.unfilled;
+  if (atlas) {
+    const AtlasBakeCounts& a = *r.atlas_counts;
+    c["texels"] = a.texels;
+    c["samples"] = a.samples;
+    c["occluded"] = a.occluded;
+    c["undefined"] = a.undefined;
+    c["outside"] = a.outside;
+    c["padded"] = a.padded;
+    j["atlas"] = ordered_json::parse(r.atlas_json.empty() ? "{}" : r.atlas_json);
+  } else {
+    c["samples"] = r.counts.samples;
+    c["occluded"] = r.counts.occluded;
+    c["undefined"] = r.counts.undefined;
+    c["outside"] = r.counts.outside;
+    c["filled"] = r.counts.filled;
+    c["unfilled"] = r.counts.unfilled;
+  }
   ordered_json& t = j["timings"];
   t["load"] = r.timings.load;
-  t["scene_build"] = r.timings.scene_build;
-  t["bake"] = r.timings.bake;
-  t["fill"] = r.timings.fill;
+  t["fit"] = r.timings.fit;
+  if (atlas) {
+    t["uv_layout"] = r.timings.uv_layout;
+    t["rasterize"] = r.timings.rasterize;
+    t["scene_build"] = r.timings.scene_build;
+    t["sample"] = r.timings.sample;
+    t["fill"] = r.timings.fill;
+    t["pad"] = r.timings.pad;
+  } else {
+    t["scene_build"] = r.timings.scene_build;
+    t["bake"] = r.timings.bake;
+    t["fill"] = r.timings.fill;
+  }
   t["write"] = r.timings.write;
   t["total"] = r.timings.total;
   return j.dump(2) + "\n";

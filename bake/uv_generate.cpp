@@ -1,10 +1,11 @@
 // `--uv generate`: chart growing, chart cutting, packing (see uv_generate.h).
-// Plain C++ and bake/parallel.h; the CGAL flattening lives in
+// Plain C++ and bake/parallel.h; the LSCM solve (Eigen) lives in
 // uv_generate_flatten.cpp.
 //
 // Hand-written rather than a library: Debian ships no UV atlas library
-// (xatlas, UVAtlas are not packaged); CGAL provides the flattening (LSCM),
-// which is the part where a well-kept implementation matters most.
+// (xatlas, UVAtlas are not packaged). CGAL's LSCM parameterizer was used for
+// the flattening until it proved the bottleneck; the same energy is now
+// solved directly with Eigen's sparse Cholesky (see uv_generate_flatten.cpp).
 #include "bake/uv_generate.h"
 
 #include <algorithm>
@@ -26,7 +27,7 @@ using uv_detail::FlattenStatus;
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 constexpr int kMaxAtlasSize = 16384;
-constexpr std::size_t kMaxSolveTriangles = 32768;
+constexpr std::size_t kMaxSolveTriangles = 65536;
 
 struct Vec2 {
   double x = 0, y = 0;
@@ -390,35 +391,44 @@ class ChartCutter {
   }
 
   void flatten_or_split(std::vector<uint32_t> tris, std::vector<FlatChart>& out) {
-    std::vector<std::pair<uint32_t, uint32_t>> border;
-    std::vector<uint32_t> cuts;
-    FlatChart fc = weld(tris, border, cuts);
-    // A chart with holes (genus 0, several border loops) becomes a disk by
-    // cutting along shortest paths between its loops; other non-disks are split.
-    for (int i = 0; i < 16; ++i) {
-      std::vector<uint32_t> loop;
-      const int loops = border_loops(fc, border, loop);
-      const long edges =
-          (3 * static_cast<long>(tris.size()) + static_cast<long>(border.size())) / 2;
-      const long euler = static_cast<long>(fc.uv.size()) - edges + static_cast<long>(tris.size());
-      if (loops <= 1 || euler != 2 - loops || !cut_between_loops(fc, tris, border, loop, cuts))
-        break;
-      fc = weld(tris, border, cuts);
-    }
     // The sparse solve grows faster than linearly with the chart and a failed
-    // check would waste it: very large charts are halved before solving.
+    // check would waste it: very large charts are halved before anything else
+    // (welding and cutting them first would be thrown away too).
     if (tris.size() > kMaxSolveTriangles) {
       auto [a, b] = split(tris);
       process(std::move(a), out);
       process(std::move(b), out);
       return;
     }
+    std::vector<std::pair<uint32_t, uint32_t>> border;
+    std::vector<uint32_t> cuts;
+    FlatChart fc = weld(tris, border, cuts);
+    // A chart with holes (genus 0, several border loops) becomes a disk by
+    // cutting along shortest paths between its loops; other non-disks are split.
+    // The welded piece is vertex-manifold by construction (corners are welded
+    // only across interior edges), so it is a disk iff it has Euler
+    // characteristic 1 and one border loop.
+    bool disk = false;
+    for (int i = 0; i < 16; ++i) {
+      std::vector<uint32_t> loop;
+      const int loops = border_loops(fc, border, loop);
+      const long edges =
+          (3 * static_cast<long>(tris.size()) + static_cast<long>(border.size())) / 2;
+      const long euler = static_cast<long>(fc.uv.size()) - edges + static_cast<long>(tris.size());
+      if (loops == 1 && euler == 1) {
+        disk = true;
+        break;
+      }
+      if (loops <= 1 || euler != 2 - loops || !cut_between_loops(fc, tris, border, loop, cuts))
+        break;
+      fc = weld(tris, border, cuts);
+    }
     if (tris.size() == 1) {
       flatten_single(fc);
       out.push_back(std::move(fc));
       return;
     }
-    if (flatten(fc) && valid(fc, border)) {
+    if (disk && flatten(fc, border) && valid(fc, border)) {
       out.push_back(std::move(fc));
       return;
     }
@@ -447,9 +457,13 @@ class ChartCutter {
     return loops;
   }
 
-  // Adds to `cuts` the interior edges of a shortest path (3D length,
-  // Dijkstra) from the longest border loop to any other loop, which merges
-  // the two loops. Returns false if no path exists.
+  // Adds to `cuts` the interior edges of shortest paths (3D length) that join
+  // every border loop to the longest one, in one Dijkstra run grown like
+  // Prim's tree: when the search reaches a new loop, the path to it and that
+  // loop become sources at distance 0 and the search goes on (a
+  // label-correcting search, so distances lowered later are re-propagated).
+  // One run and one re-weld replace a run and a re-weld per hole. Returns
+  // false if no loop could be reached.
   bool cut_between_loops(const FlatChart& fc, const std::vector<uint32_t>& tris,
                          const std::vector<std::pair<uint32_t, uint32_t>>& border,
                          const std::vector<uint32_t>& loop, std::vector<uint32_t>& cuts) {
@@ -482,20 +496,29 @@ class ChartCutter {
     }
     std::vector<double> dist(nv, std::numeric_limits<double>::infinity());
     std::vector<uint32_t> via(nv, kNone);  // corner-edge reaching the vertex
+    std::vector<uint8_t> joined(loop_size.size(), 0);
     using Item = std::pair<double, uint32_t>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
-    for (uint32_t v = 0; v < nv; ++v) {
-      if (loop[v] == outer) {
-        dist[v] = 0;
-        queue.push({0.0, v});
+    auto make_source = [&](uint32_t v) {
+      dist[v] = 0;
+      via[v] = kNone;
+      queue.push({0.0, v});
+    };
+    auto join_loop = [&](uint32_t l) {
+      joined[l] = 1;
+      for (uint32_t v = 0; v < nv; ++v) {
+        if (loop[v] == l) make_source(v);
       }
-    }
+    };
+    join_loop(outer);
+    bool any = false;
     const auto& tv = *g_.tris;
     while (!queue.empty()) {
       const auto [d, v] = queue.top();
       queue.pop();
       if (d > dist[v]) continue;
-      if (loop[v] != kNone && loop[v] != outer) {
+      if (loop[v] != kNone && !joined[loop[v]]) {
+        std::vector<uint32_t> path;
         for (uint32_t u = v; via[u] != kNone;) {
           const uint32_t ce = via[u];
           cuts.push_back(ce);
@@ -504,9 +527,12 @@ class ChartCutter {
           const uint32_t i = static_cast<uint32_t>(
               std::lower_bound(tris.begin(), tris.end(), ce / 3) - tris.begin());
           u = fc.corner[i][ce % 3];
+          path.push_back(u);
         }
-        std::sort(cuts.begin(), cuts.end());
-        return true;
+        any = true;
+        join_loop(loop[v]);
+        for (uint32_t u : path) make_source(u);
+        continue;
       }
       for (uint32_t j = offset[v]; j < offset[v + 1]; ++j) {
         const auto [w, ce] = links[j];
@@ -519,7 +545,8 @@ class ChartCutter {
         }
       }
     }
-    return false;
+    if (any) std::sort(cuts.begin(), cuts.end());
+    return any;
   }
 
   void flatten_single(FlatChart& fc) {
@@ -534,10 +561,12 @@ class ChartCutter {
     fc.uv[fc.corner[0][2]] = {x2, y2};
   }
 
-  // LSCM through CGAL, started from the projection onto the piece's mean plane.
-  bool flatten(FlatChart& fc) {
+  // LSCM (uv_generate_flatten.cpp) with the two vertices farthest apart along
+  // the longer axis of the projection onto the piece's mean plane pinned.
+  bool flatten(FlatChart& fc, const std::vector<std::pair<uint32_t, uint32_t>>& border) {
     const auto& tris = *g_.tris;
     ChartMesh cm;
+    cm.border = border;
     const std::size_t nloc = fc.uv.size();
     cm.positions.resize(3 * nloc);
     Vec3 nsum{};
@@ -935,18 +964,20 @@ class ColumnIntervals {
   std::vector<std::vector<std::pair<int, int>>> cols_;
 };
 
-// Bottom-left-fill packing of rasterised charts, largest first: each chart
-// takes, over four quarter turns and every column, the lowest position where
-// each of its columns' covered span [bottom, top] fits between the occupied
-// spans of the atlas column below it (a chart's column is treated as covered
-// from its lowest to its highest texel). Holes left under earlier charts are
-// thus filled by later ones, unlike a skyline packer. Occupied spans are the
+// Bottom-left-fill packing of rasterised charts, largest first, into a strip
+// `size` texels wide and at most `max_height` high: each chart takes, over
+// four quarter turns and every column, the lowest position where each of its
+// columns' covered span [bottom, top] fits between the occupied spans of the
+// atlas column below it (a chart's column is treated as covered from its
+// lowest to its highest texel). Holes left under earlier charts are thus
+// filled by later ones, unlike a skyline packer. Occupied spans are the
 // placed charts dilated by `padding` (in the Chebyshev metric), so covered
-// texels of two charts are more than `padding` texels apart. Ties: lower top
-// edge, then further left, then fewer turns. Returns false when a chart does
-// not fit.
-bool pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& order, int size,
-          int padding, std::vector<Placement>& placed) {
+// texels of two charts are more than `padding` texels apart; the strip's
+// edges need no gutter. Ties: lower top edge, then further left, then fewer
+// turns. Returns the height used (the highest top edge), or -1 when a chart
+// does not fit below max_height.
+int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& order, int size,
+         int padding, int max_height, std::vector<Placement>& placed) {
   ColumnIntervals occupied(size);
   placed.assign(rasters.size(), {});
   constexpr std::size_t kGrain = 128;
@@ -954,14 +985,40 @@ bool pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& 
     long score = std::numeric_limits<long>::max();
     int x = 0, y = 0, rot = 0;
   };
+  int used = 0;
+  Profile profiles[4];
+  // Lowest position of profile p at column x (y only grows while raising, so
+  // this ends after at most one raise per occupied span), or -1 when it
+  // cannot beat `bound` (score (top edge) * size + x) or exceeds max_height.
+  auto lowest = [&](const Profile& p, int x, long bound) {
+    int y = 0;
+    for (int c = 0, clean = 0; clean < p.w; c = c + 1 == p.w ? 0 : c + 1) {
+      const int len = p.top[c] - p.bottom[c] + 1;
+      const int free = occupied.lowest_free(x + c, y + p.bottom[c], len);
+      if (free == y + p.bottom[c]) {
+        ++clean;
+        continue;
+      }
+      y = free - p.bottom[c];
+      clean = 1;
+      if (y + p.h > max_height || (static_cast<long>(y) + p.h) * size + x >= bound) return -1;
+    }
+    return y;
+  };
   for (uint32_t ci : order) {
     Best best;
-    Profile profiles[4];
+    for (int rot = 0; rot < 4; ++rot) profiles[rot] = profile(rasters[ci], rot);
+    // Wide charts are first placed on every kStride-th column, then the best
+    // of those is refined column by column within +-kStride: the cost of a
+    // column is the chart's width, and a texel or two of horizontal slack
+    // rarely decides whether a wide chart fits.
+    const int stride = std::clamp(profiles[0].w / 32, 1, 4);
     for (int rot = 0; rot < 4; ++rot) {
-      profiles[rot] = profile(rasters[ci], rot);
       const Profile& p = profiles[rot];
-      if (p.w > size || p.h > size) continue;
-      const std::size_t positions = static_cast<std::size_t>(size - p.w + 1);
+      if (p.w > size || p.h > max_height) continue;
+      // The best possible score of this turn (y = 0, x = 0) cannot win.
+      if (static_cast<long>(p.h) * size >= best.score) continue;
+      const std::size_t positions = static_cast<std::size_t>(size - p.w) / stride + 1;
       // Fixed chunks of kGrain columns, one result slot each (parallel_for_chunks
       // may split a range at any point, so chunks are indexed explicitly).
       std::vector<Best> chunk_best((positions + kGrain - 1) / kGrain);
@@ -969,30 +1026,15 @@ bool pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& 
         for (std::size_t k = kb; k < ke; ++k) {
           const std::size_t b = k * kGrain, e = std::min(positions, b + kGrain);
           Best local = best;  // prune with what earlier rotations found (same for every chunk)
-          for (std::size_t x = b; x < e; ++x) {
-            // Raise y until every column's span is free, visiting columns
-            // cyclically from the last one that raised it; y only grows, so
-            // this ends after at most one raise per occupied span.
-            int y = 0;
-            bool fits = true;
-            for (int c = 0, clean = 0; clean < p.w; c = c + 1 == p.w ? 0 : c + 1) {
-              const int len = p.top[c] - p.bottom[c] + 1;
-              const int free = occupied.lowest_free(static_cast<int>(x) + c, y + p.bottom[c], len);
-              if (free == y + p.bottom[c]) {
-                ++clean;
-                continue;
-              }
-              y = free - p.bottom[c];
-              clean = 1;
-              if (y + p.h > size ||
-                  (static_cast<long>(y) + p.h) * size + static_cast<long>(x) >= local.score) {
-                fits = false;
-                break;
-              }
-            }
-            if (!fits) continue;
-            const long score = (static_cast<long>(y) + p.h) * size + static_cast<long>(x);
-            if (score < local.score) local = {score, static_cast<int>(x), y, rot};
+          for (std::size_t i = b; i < e; ++i) {
+            const int x = static_cast<int>(i) * stride;
+            // Scores grow with x at equal height: nothing further right in
+            // this chunk can beat a position already found at y = 0.
+            if (static_cast<long>(p.h) * size + x >= local.score) break;
+            const int y = lowest(p, x, local.score);
+            if (y < 0) continue;
+            const long score = (static_cast<long>(y) + p.h) * size + x;
+            if (score < local.score) local = {score, x, y, rot};
           }
           chunk_best[k] = local;
         }
@@ -1001,9 +1043,22 @@ bool pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& 
         if (cb.score < best.score) best = cb;
       }
     }
-    if (best.score == std::numeric_limits<long>::max()) return false;
+    if (stride > 1 && best.score != std::numeric_limits<long>::max()) {
+      const Profile& p = profiles[best.rot];
+      const int x0 = std::max(0, best.x - stride + 1),
+                x1 = std::min(size - p.w, best.x + stride - 1);
+      for (int x = x0; x <= x1; ++x) {
+        if (x == best.x) continue;
+        const int y = lowest(p, x, best.score);
+        if (y < 0) continue;
+        const long score = (static_cast<long>(y) + p.h) * size + x;
+        if (score < best.score) best = {score, x, y, best.rot};
+      }
+    }
+    if (best.score == std::numeric_limits<long>::max()) return -1;
     placed[ci] = {best.x, best.y, best.rot};
     const Profile& p = profiles[best.rot];
+    used = std::max(used, best.y + p.h);
     for (int c = -padding; c < p.w + padding; ++c) {
       const int x = best.x + c;
       if (x < 0 || x >= size) continue;
@@ -1016,7 +1071,7 @@ bool pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& 
       if (hi >= 0) occupied.insert(x, best.y + lo - padding, best.y + hi + padding);
     }
   }
-  return true;
+  return used;
 }
 
 Status validate(const MeshData& mesh, const UvGenerateOptions& o) {
@@ -1120,43 +1175,64 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
   std::vector<Placement> placement, best_placement;
   std::vector<ChartRaster> best_rasters;
   double best_scale = 0;
-  auto try_scale = [&](double scale) {
+  // Scale search. A pack into a strip of the atlas' width reports the height
+  // it needs; at a fixed width that height grows about as scale^2, so the
+  // next scale is scale * sqrt(size / height), kept strictly inside the
+  // bracket [largest scale that fitted, smallest that did not]. This needs
+  // 3-5 packs where bisection from a blind start needed 8-10. A pack that
+  // overflows the strip by more than kOverflow stops early.
+  constexpr double kOverflow = 1.3;
+  const int max_height = static_cast<int>(std::min<double>(kOverflow * size, 4.0 * kMaxAtlasSize));
+  double lo = 0, hi = std::numeric_limits<double>::infinity();
+  // Start: charts covering about 70 % of the atlas (UV area = 3D area).
+  double scale = std::sqrt(0.7 * size * static_cast<double>(size) / total_area);
+  if (max_extent > 0) scale = std::min(scale, (size - 1) / max_extent);
+  int probes = 0;
+  for (int round = 0; round < 40; ++round) {
     parallel_for_chunks(charts.size(), 8, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) rasters[i] = rasterize_chart(charts[i], scale);
     });
-    if (!pack(rasters, order, size, padding, placement)) return false;
-    if (scale > best_scale) {
+    const int used = pack(rasters, order, size, padding, max_height, placement);
+    if (used >= 0 && used <= size) {
+      lo = scale;
       best_scale = scale;
       best_placement = placement;
       best_rasters = rasters;
-    }
-    return true;
-  };
-  double scale = std::sqrt(0.75 * size * static_cast<double>(size) / total_area);
-  if (max_extent > 0) scale = std::min(scale, (size - 1) / max_extent);
-  double lo = 0, hi = 0;
-  for (int i = 0; i < 60 && (lo == 0 || hi == 0); ++i) {
-    if (try_scale(scale)) {
-      lo = scale;
-      if (hi == 0) scale *= 1.1;
     } else {
       hi = scale;
-      if (lo == 0) scale /= 1.1;
     }
-    if (lo > 0 && hi == 0 && scale * max_extent > size) hi = scale;
+    if (lo > 0 && round >= 5) break;
+    // The packed height is not monotonic in the scale (a slightly larger
+    // chart can land in a better hole), so once the bracket is tight a few
+    // probes just above the best fitting scale are still worth a pack.
+    if (hi / lo < 1.005) {
+      if (probes == 2) break;
+      scale = lo * (1.0 + 0.004 * ++probes);
+      continue;
+    }
+    double next =
+        used > 0 ? scale * std::sqrt(static_cast<double>(size) / used) : scale / kOverflow;
+    if (used > 0 && used <= size) next *= 1.002;  // a pack that fits exactly: still try a bit more
+    if (lo > 0 && hi < std::numeric_limits<double>::infinity()) {
+      // Inside the bracket, at least a quarter of the way from either end.
+      const double a = lo + 0.25 * (hi - lo), c = hi - 0.25 * (hi - lo);
+      next = std::clamp(next, a, c);
+    } else if (next <= lo) {
+      next = lo * 1.01;
+    } else if (next >= hi) {
+      next = hi / 1.01;
+    }
+    if (max_extent > 0 && next * max_extent > size - 1) {
+      if (lo >= (size - 1) / max_extent) break;
+      next = (size - 1) / max_extent;
+    }
+    scale = next;
   }
   if (lo == 0) {
     return make_error(ErrorCode::kUnsupported, "cannot pack " + std::to_string(charts.size()) +
                                                    " charts into a " + std::to_string(size) +
                                                    " texel atlas with a " +
                                                    std::to_string(padding) + " texel gutter");
-  }
-  while (hi / lo > 1.01) {
-    const double mid = std::sqrt(lo * hi);
-    if (try_scale(mid))
-      lo = mid;
-    else
-      hi = mid;
   }
 
   // 4. Output.

@@ -9,18 +9,21 @@
 //     flips are chart borders. Saw-toothed borders are smoothed and charts
 //     below 1/2000 of the surface are merged into a neighbour.
 //  2. Every chart is made a topological disk (holes are cut open along
-//     shortest paths between border loops; other non-disks are split;
-//     charts above 32768 triangles are halved to bound the solve) and flattened with CGAL's
-//     least-squares conformal maps (LSCM, Levy et al. 2002). A chart whose map flips a triangle,
-//     whose border crosses itself, whose stretch exceeds max_chart_stretch or whose solve fails is
-//     split in two and retried (a single triangle always succeeds). Charts are then scaled so that
-//     UV area equals 3D area (uniform texel density) and rotated to their minimum-area bounding
+//     shortest paths joining its border loops; other non-disks are split;
+//     charts above 65536 triangles are halved to bound the solve) and
+//     flattened by least-squares conformal maps (LSCM, Levy et al. 2002;
+//     a direct Eigen sparse solve). A chart whose map flips a triangle, whose
+//     border crosses itself, whose stretch exceeds max_chart_stretch or whose
+//     solve fails is split in two and retried (a single triangle always
+//     succeeds). Charts are then scaled so that UV area equals 3D area
+//     (uniform texel density) and rotated to their minimum-area bounding
 //     rectangle.
 //  3. Charts are packed as rasterised shapes (conservative coverage at the
-//     atlas size) into the square by bottom-left fill over column spans,
-//     trying four quarter turns, with at least `padding` empty texels between texels covered by
-//     different charts. The global scale is the largest found by bisection
-//     for which everything fits.
+//     atlas size) by bottom-left fill over column spans, trying four quarter
+//     turns, with at least `padding` empty texels between texels covered by
+//     different charts (none at the atlas edge). The global scale is searched
+//     from the height each pack needs in a strip of the atlas' width; the
+//     largest scale whose pack fits the square is kept.
 //
 // Conventions: UVs are SPEC section 1 coordinates in [0, 1]; the atlas is
 // atlas_size x atlas_size texels, texel (i, j) covering u in [i, i+1]/size and
@@ -45,7 +48,7 @@ struct UvGenerateOptions {
   double max_chart_angle_deg = 70.0;
   // A chart whose own area-weighted L2 stretch (Sander et al. 2001, normalised
   // so that an isometry gives 1) exceeds this after flattening is split; >= 1.
-  double max_chart_stretch = 1.5;
+  double max_chart_stretch = 1.1;
 };
 
 struct UvAtlas {

@@ -38,5 +38,43 @@ demo_bake_earth_bunny() {
   echo
 }
 
+demo_bake_atlas_bunny() {
+  # The same projection baked into a texture atlas: the bunny has no UVs, so
+  # --uv generate lays out new charts; OBJ + MTL + PNG, viewable anywhere.
+  local data="$TEXBAKE_ROOT/../shared/data"
+  local out="$TEXBAKE_ROOT/out"
+  mkdir -p "$out"
+  local args=(bake "$data/bunny00.off" --texture "$data/earth.jpg"
+              --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator 0,0,1
+              --target atlas --uv generate --size 2048
+              -o "$out/bunny_atlas.obj" --report "$out/bunny_atlas.json")
+  echo "== Atlas bake: the Earth map on the bunny as a 2048 x 2048 texture (generated UVs) =="
+  echo "\$ texbake ${args[*]}"
+  "$texbake" "${args[@]}"
+  echo "   wrote $out/bunny_atlas.obj, $out/bunny_atlas.mtl and $out/bunny_atlas.png"
+  echo "         (OBJ with vt, material, atlas; open the OBJ in Blender or MeshLab)"
+  echo "   and   $out/bunny_atlas.json (inputs, proxy, UV charts, utilisation, counts, timings)"
+  echo
+}
+
+demo_render_previews() {
+  # A contact sheet of four views around each bake, beside it in out/
+  # (texbake render: Embree ray tracing, Phong shading; the bunny is y up).
+  # Look at these before trusting a bake: north up, no seams, no black spots.
+  local out="$TEXBAKE_ROOT/out"
+  echo "== Previews: four views of each bake (texbake render --views 4) =="
+  local mesh
+  for mesh in "$out/bunny_earth.ply" "$out/bunny_atlas.obj"; do
+    local png="${mesh%.*}_preview.png"
+    local args=(render "$mesh" --up y --views 4 --size 512x512 -o "$png")
+    echo "\$ texbake ${args[*]}"
+    "$texbake" "${args[@]}"
+    echo "   wrote $png (2 x 2 views, transparent background)"
+  done
+  echo
+}
+
 demo_worked_example
 demo_bake_earth_bunny
+demo_bake_atlas_bunny
+demo_render_previews

@@ -4,8 +4,11 @@
 #include <chrono>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
 
 #include "bake/atlas_raster.h"
+#include "bake/cli/choice_option.h"
 #include "bake/dilate.h"
 #include "bake/uv_generate.h"
 #include "bake/uv_proxy.h"
@@ -36,26 +39,29 @@ constexpr int kMinGutter = 2;
 }  // namespace
 
 void add_atlas_flags(CLI::App& bake, AtlasFlags& flags) {
-  bake.add_option("--target", flags.target,
-                  "vertex or atlas (default: vertex for .ply, atlas for .obj/.glb outputs)")
-      ->check(CLI::IsMember({"vertex", "atlas"}));
-  bake.add_option("--size", flags.size, "atlas width and height in texels (1..16384)")
-      ->default_val(2048);
+  add_choice_option<std::string>(
+      bake, "--target", flags.target, {{"vertex", "vertex"}, {"atlas", "atlas"}},
+      "vertex or atlas (default: vertex for .ply, atlas for .obj/.glb outputs)");
+  bake.add_option("--size", flags.size,
+                  "atlas target: width and height in texels (default 2048, 1..16384)")
+      ->type_name("N");
   bake.add_option("--padding", flags.padding,
-                  "texels of gutter padding, or 'inf' for push-pull over the whole background "
-                  "(default: 8 at 2048, scaled with --size, at least 1)");
-  const std::map<std::string, UvSource> uv_map{{"auto", UvSource::kAuto},
-                                               {"mesh", UvSource::kMesh},
-                                               {"proxy", UvSource::kProxy},
-                                               {"generate", UvSource::kGenerate}};
-  bake.add_option("--uv", flags.uv,
-                  "atlas UV layout: mesh, proxy, generate or auto (mesh if present, else "
-                  "generate)")
-      ->transform(CLI::CheckedTransformer(uv_map, CLI::ignore_case));
-  const std::map<std::string, ImageBitDepth> format_map{
-      {"png8", ImageBitDepth::k8}, {"png16", ImageBitDepth::k16}, {"exr", ImageBitDepth::kFloat}};
-  bake.add_option("--format", flags.format, "atlas image format: png8 (default), png16 or exr")
-      ->transform(CLI::CheckedTransformer(format_map, CLI::ignore_case));
+                  "atlas target: texels of dilation into the gutter, or 'inf' for push-pull over "
+                  "the whole background (default: 8 at 2048, scaled with --size, at least 1)")
+      ->type_name("N|inf");
+  add_choice_option(
+      bake, "--uv", flags.uv,
+      {{"auto", UvSource::kAuto},
+       {"mesh", UvSource::kMesh},
+       {"generate", UvSource::kGenerate},
+       {"proxy", UvSource::kProxy}},
+      "atlas target UV layout: auto (default: mesh if the mesh has UVs, else generate), "
+      "mesh (its own UVs), generate (new non-overlapping charts) or proxy (the proxy's "
+      "(u, v), cut at its seam)");
+  add_choice_option(
+      bake, "--format", flags.format,
+      {{"png8", ImageBitDepth::k8}, {"png16", ImageBitDepth::k16}, {"exr", ImageBitDepth::kFloat}},
+      "atlas target image format: png8 (default), png16 or exr (.obj only)");
 }
 
 Expected<BakeTarget> resolve_target(const AtlasFlags& flags, const fs::path& output) {

@@ -1,16 +1,18 @@
-// texbake bake MESH --texture IMG --proxy KIND [geometry] [--target vertex]
-//   -o OUT.ply|OUT.obj [options]   (SPEC sections 3, 4, 5)
+// texbake bake MESH --texture IMG --proxy KIND [geometry] [--target vertex|atlas]
+//   -o OUT.ply|OUT.obj|OUT.glb [options]   (SPEC sections 3 to 7)
 //
-// Parse -> options -> load -> bake_vertex -> write, nothing more: the work is
-// in bake/bake_vertex.h. Bad flag values are rejected by CLI11 validators
-// (exit 2), never clamped. Every geometry flag of the kind is required until
-// fitting lands (issue #5); the atlas target and .glb output until issue #4.
-// The output's folder is checked before the long work, and outputs are
-// written atomically, so a failure never leaves a file behind.
+// Parse -> validate every flag (exit 2) -> check the outputs are writable
+// (exit 1) -> load the mesh -> resolve the proxy (geometry flags not given
+// are fitted, bake/cli/fit_geometry.h) -> load the image -> bake (vertex:
+// bake/bake_vertex.h; atlas: bake/cli/atlas_target.h) -> write atomically.
+// Bad flag values are rejected (exit 2), never clamped; flags of the other
+// target are rejected too rather than silently ignored. Outputs are written
+// atomically, so a failure never leaves a file behind.
 #include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -19,7 +21,10 @@
 #include <vector>
 
 #include "bake/bake_vertex.h"
+#include "bake/cli/atlas_target.h"
+#include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
+#include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
 #include "bake/options.h"
 #include "bake/parallel.h"
@@ -29,14 +34,13 @@
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
 #include "mesh_io/write_mesh.h"
+#include "mesh_io/write_textured.h"
 
 namespace texbake::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
-
-enum class Target { kVertex, kAtlas };
 
 // A flag that is a keyword or a colour "R,G,B[,A]" (components in [0, 1]).
 struct KeywordOrColor {
@@ -49,10 +53,10 @@ struct BakeCliOptions {
   std::string texture;
   std::string output;
   GeometryFlags geometry;
-  std::optional<Target> target;
+  AtlasFlags atlas;  // --target, --size, --padding, --uv, --format
   bool ascii = false;
   VertexFilter filter = VertexFilter::kArea;
-  int samples = 16;
+  std::optional<int> samples;  // default: 16 (vertex, --filter area), 4 (atlas)
   Visibility visibility = Visibility::kFirst;
   KeywordOrColor occluded{"fill"};
   KeywordOrColor outside{"clamp"};
@@ -61,6 +65,7 @@ struct BakeCliOptions {
   std::string report;
   int threads = 0;
   bool quiet = false;
+  const CLI::App* command = nullptr;  // to ask which flags were given
 };
 
 // Parses "R,G,B" or "R,G,B,A", each a number in [0, 1]. Throws
@@ -114,33 +119,6 @@ void add_keyword_or_color(CLI::App& cmd, const std::string& flag, KeywordOrColor
                                        : keywords[0] + "|" + keywords[1] + "|R,G,B[,A]");
 }
 
-// Adds --flag mapping exactly one of the names in `names` to its enum value.
-// (Not CLI::CheckedTransformer: CLI11 2.1's also accepts the enum's integer
-// values, e.g. "--filter 1", and its message lists the integers.)
-template <class T>
-void add_enum_option(CLI::App& cmd, const std::string& flag, T& target,
-                     const std::vector<std::pair<std::string, T>>& names, const std::string& help) {
-  std::string expected, type_name;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    expected += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + names[i].first;
-    type_name += (i == 0 ? "" : "|") + names[i].first;
-  }
-  cmd.add_option_function<std::string>(
-         flag,
-         [&target, flag, names, expected](const std::string& value) {
-           for (const auto& [name, v] : names) {
-             if (value == name) {
-               target = v;
-               return;
-             }
-           }
-           throw CLI::ValidationError(flag,
-                                      "unknown value '" + value + "' (expected " + expected + ")");
-         },
-         help)
-      ->type_name(type_name);
-}
-
 std::string lower_extension(const fs::path& path) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -151,81 +129,19 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-int run_bake(const BakeCliOptions& o) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
+// "--a, --b" of the flags in `names` that were given on the command line.
+std::vector<std::string> given_flags(const CLI::App& cmd, const std::vector<std::string>& names) {
+  std::vector<std::string> given;
+  for (const std::string& n : names) {
+    if (cmd.count(n) > 0) given.push_back(n);
+  }
+  return given;
+}
 
-  // ---- Usage checks (exit 2), before touching any file. ----
-  if (Status s = check_geometry_flags(o.geometry, /*require_proxy=*/true); !s) {
-    return report_error(s.error());
-  }
-  if (o.geometry.kind) {
-    const std::vector<std::string> missing = missing_geometry_flags(o.geometry, *o.geometry.kind);
-    if (!missing.empty()) {
-      return report_error(ErrorCode::kInvalidArgument,
-                          "missing " + missing.front() + " for --proxy " +
-                              to_string(*o.geometry.kind) +
-                              " (fitting the proxy to the mesh is not available yet: give every "
-                              "geometry flag of the kind, or --proxy-file)");
-    }
-  }
-  const fs::path output = o.output;
-  const std::string ext = lower_extension(output);
-  if (ext == ".glb") {
-    return report_error(ErrorCode::kUnsupported,
-                        "cannot write " + o.output + ": .glb output is not supported yet");
-  }
-  if (ext != ".ply" && ext != ".obj") {
-    return report_error(ErrorCode::kInvalidArgument,
-                        "cannot write " + o.output + ": the output must be .ply or .obj");
-  }
-  // SPEC section 5: the default target is vertex for .ply, atlas for .obj.
-  const Target target = o.target.value_or(ext == ".ply" ? Target::kVertex : Target::kAtlas);
-  if (target == Target::kAtlas) {
-    return report_error(ErrorCode::kUnsupported,
-                        "--target atlas is not supported yet; use --target vertex" +
-                            std::string(ext == ".obj" ? " for OBJ vertex colours" : ""));
-  }
-  if (o.ascii && ext != ".ply") {
-    return report_error(ErrorCode::kInvalidArgument, "--ascii applies to .ply output only");
-  }
-  Expected<Proxy> proxy = proxy_from_flags(o.geometry);
-  if (!proxy) return report_error(proxy.error());
-  if (o.wrap && !std::holds_alternative<Plane>(*proxy)) {
-    return report_error(ErrorCode::kInvalidArgument,
-                        "--wrap applies to the plane proxy only (the others' wrap is fixed)");
-  }
-
-  // ---- Outputs must be writable before the long work (exit 1). ----
-  if (Status s = check_writable(output); !s) return report_error(s.error());
-  if (!o.report.empty()) {
-    if (Status s = check_writable(o.report); !s) return report_error(s.error());
-  }
-
-  ThreadLimit thread_limit(o.threads);
-  BakeReport report;
-  report.mesh_path = o.mesh;
-  report.texture_path = o.texture;
-  report.output_path = o.output;
-  report.threads = o.threads;
-  report.proxy = params_of(*proxy);
-
-  // ---- Load. ----
-  const auto load_start = Clock::now();
-  Expected<LoadedMesh> mesh = read_mesh(o.mesh);
-  if (!mesh) return report_error(mesh.error());
-  Expected<Image> image = read_image(o.texture);
-  if (!image) return report_error(image.error());
-  report.timings.load = seconds_since(load_start);
-  report.image_width = image->width;
-  report.image_height = image->height;
-  report.degenerate_skipped = mesh->issues.degenerate_triangles;
-  report.unreferenced_vertices = mesh->issues.unreferenced_vertices;
-
-  // ---- Bake. ----
-  VertexBakeOptions& options = report.options;
+VertexBakeOptions shading_options(const BakeCliOptions& o) {
+  VertexBakeOptions options;
   options.filter = o.filter;
-  options.samples = o.samples;
+  options.samples = o.samples.value_or(16);
   options.visibility = o.visibility;
   if (o.occluded.keyword == "fill") {
     options.occluded = OccludedMode::kFill;
@@ -243,38 +159,188 @@ int run_bake(const BakeCliOptions& o) {
   }
   options.linear = o.linear;
   options.plane_wrap = o.wrap.value_or(WrapMode::kClamp);
+  return options;
+}
+
+Status check_wrap(const BakeCliOptions& o, std::optional<ProxyKind> kind) {
+  if (o.wrap && kind && *kind != ProxyKind::kPlane) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--wrap applies to the plane proxy only (the others' wrap is fixed)");
+  }
+  return ok_status();
+}
+
+int run_bake(const BakeCliOptions& o) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+
+  // ---- Usage checks (exit 2), before touching any file. ----
+  if (Status s = check_geometry_flags(o.geometry, /*require_proxy=*/true); !s) {
+    return report_error(s.error());
+  }
+  const fs::path output = o.output;
+  const std::string ext = lower_extension(output);
+  Expected<BakeTarget> target = resolve_target(o.atlas, output);
+  if (!target) return report_error(target.error());
+  const bool atlas = *target == BakeTarget::kAtlas;
+  const std::vector<std::string> wrong_target =
+      atlas ? given_flags(*o.command, {"--filter", "--ascii"})
+            : given_flags(*o.command, {"--size", "--padding", "--uv", "--format"});
+  if (!wrong_target.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        wrong_target.front() + " applies to --target " +
+                            (atlas ? "vertex" : "atlas") + " only (this bake's target is " +
+                            (atlas ? "atlas" : "vertex") + ", writing " + o.output + ")");
+  }
+  if (o.ascii && ext != ".ply") {
+    return report_error(ErrorCode::kInvalidArgument, "--ascii applies to .ply output only");
+  }
+  if (Status s = check_wrap(o, o.geometry.kind); !s) return report_error(s.error());
+  const VertexBakeOptions shading = shading_options(o);
+  AtlasBakeOptions atlas_opts;
+  if (atlas) {
+    Expected<AtlasBakeOptions> a = atlas_options(o.atlas, o.samples, shading, output);
+    if (!a) return report_error(a.error());
+    atlas_opts = *a;
+  }
+  // All geometry given (or a file): build and validate the proxy now, so a
+  // bad value is reported before the long work. Otherwise the fit needs the
+  // mesh.
+  std::optional<ResolvedProxy> resolved;
+  if (o.geometry.proxy_file || missing_geometry_flags(o.geometry, *o.geometry.kind).empty()) {
+    Expected<Proxy> proxy = proxy_from_flags(o.geometry);
+    if (!proxy) return report_error(proxy.error());
+    resolved = ResolvedProxy{std::move(*proxy), {}};
+    if (Status s = check_wrap(o, kind_of(params_of(resolved->proxy))); !s) {
+      return report_error(s.error());
+    }
+  }
+
+  // ---- Outputs must be writable before the long work (exit 1). ----
+  if (Status s = check_writable(output); !s) return report_error(s.error());
+  if (atlas && ext == ".obj") {
+    for (const fs::path& p :
+         {fs::path(output).replace_extension(".mtl"), atlas_path_for(output, o.atlas.format)}) {
+      if (Status s = check_writable(p); !s) return report_error(s.error());
+    }
+  }
+  if (!o.report.empty()) {
+    if (Status s = check_writable(o.report); !s) return report_error(s.error());
+  }
+
+  ThreadLimit thread_limit(o.threads);
+  BakeReport report;
+  report.mesh_path = o.mesh;
+  report.texture_path = o.texture;
+  report.output_path = o.output;
+  report.threads = o.threads;
+  report.options = shading;
+
+  // ---- Load the mesh, resolve the proxy, load the image. ----
+  auto stage_start = Clock::now();
+  Expected<LoadedMesh> mesh = read_mesh(o.mesh);
+  if (!mesh) return report_error(mesh.error());
+  report.timings.load = seconds_since(stage_start);
+  if (atlas && o.atlas.uv == UvSource::kMesh && !mesh->mesh.has_uvs()) {
+    // The flag does not fit the given mesh: a usage error (exit 2).
+    return report_error(
+        ErrorCode::kInvalidArgument,
+        "--uv mesh: " + o.mesh + " has no UV coordinates (use --uv generate or --uv proxy)");
+  }
+  if (!resolved) {
+    stage_start = Clock::now();
+    Expected<ResolvedProxy> fitted =
+        resolve_proxy(o.geometry, mesh->mesh, o.mesh, o.quiet ? nullptr : &std::cerr);
+    if (!fitted) return report_error(fitted.error());
+    resolved = std::move(*fitted);
+    report.timings.fit = seconds_since(stage_start);
+  }
+  const Proxy& proxy = resolved->proxy;
+  report.proxy = params_of(proxy);
+  report.fitted_flags = resolved->fitted_flags;
+
+  stage_start = Clock::now();
+  Expected<Image> image = read_image(o.texture);
+  if (!image) return report_error(image.error());
+  report.timings.load += seconds_since(stage_start);
+  report.image_width = image->width;
+  report.image_height = image->height;
+  report.degenerate_skipped = mesh->issues.degenerate_triangles;
+  report.unreferenced_vertices = mesh->issues.unreferenced_vertices;
+  report.counts.vertices = mesh->mesh.positions.size();
+  report.counts.triangles = mesh->mesh.triangles.size();
 
   Progress progress(!o.quiet && Progress::stderr_is_terminal());
-  Expected<VertexBakeStage> sampled =
-      bake_vertex_sample(mesh->mesh, image->view(), *proxy, options, &progress);
-  if (!sampled) return report_error(sampled.error());
-  image = Image{};  // nothing reads the image any more: free it before the fill's peak
-  Expected<VertexBakeResult> baked = bake_vertex_finish(mesh->mesh, std::move(sampled).value());
-  if (!baked) return report_error(baked.error());
-  report.counts = baked->counts;
-  report.timings.scene_build = baked->timings.scene_build;
-  report.timings.bake = baked->timings.bake;
-  report.timings.fill = baked->timings.fill;
+  std::string what, written = o.output;  // the summary line: what was baked, where
+  if (atlas) {
+    // ---- Atlas: UV layout, bake, pad, write (one call). ----
+    Expected<AtlasJobReport> job =
+        run_atlas_job(mesh->mesh, image->view(), proxy, o.atlas, atlas_opts, output, &progress);
+    if (!job) return report_error(job.error());
+    for (const std::string& w : job->warnings) std::cerr << "texbake: warning: " << w << "\n";
+    report.atlas_counts = job->counts;
+    report.atlas_samples = atlas_opts.samples;
+    report.atlas_json = atlas_report_json(*job, atlas_opts);
+    report.timings.uv_layout = job->timings.uv_layout;
+    report.timings.rasterize = job->timings.rasterize;
+    report.timings.scene_build = job->timings.scene_build;
+    report.timings.sample = job->timings.sample;
+    report.timings.fill = job->timings.fill;
+    report.timings.pad = job->timings.pad;
+    report.timings.write = job->timings.write;
+    const AtlasBakeCounts& c = job->counts;
+    if (ext == ".obj") {
+      written += " (+ " + fs::path(output).replace_extension(".mtl").filename().string() + ", " +
+                 atlas_path_for(output, o.atlas.format).filename().string() + ")";
+    }
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu occluded, %zu outside, "
+                  "%zu padded)",
+                  atlas_opts.size, atlas_opts.size, job->uv_source.c_str(), c.texels, c.samples,
+                  c.occluded, c.outside, c.padded);
+    what = line;
+  } else {
+    // ---- Vertex: sample, free the image, fill, write. ----
+    Expected<VertexBakeStage> sampled =
+        bake_vertex_sample(mesh->mesh, image->view(), proxy, shading, &progress);
+    if (!sampled) return report_error(sampled.error());
+    image = Image{};  // nothing reads the image any more: free it before the fill's peak
+    Expected<VertexBakeResult> baked = bake_vertex_finish(mesh->mesh, std::move(sampled).value());
+    if (!baked) return report_error(baked.error());
+    report.counts = baked->counts;
+    report.timings.scene_build = baked->timings.scene_build;
+    report.timings.bake = baked->timings.bake;
+    report.timings.fill = baked->timings.fill;
 
-  // ---- Write. ----
-  const auto write_start = Clock::now();
-  MeshWriteOptions write_options;
-  write_options.ascii = o.ascii;
-  write_options.vertex_colors = baked->colors;
-  if (Status s = write_mesh(output, mesh->mesh, write_options); !s) return report_error(s.error());
-  report.timings.write = seconds_since(write_start);
+    const auto write_start = Clock::now();
+    if (ext == ".glb") {
+      if (Status s = write_vertex_color_glb(output, mesh->mesh, baked->colors); !s) {
+        return report_error(s.error());
+      }
+    } else {
+      MeshWriteOptions write_options;
+      write_options.ascii = o.ascii;
+      write_options.vertex_colors = baked->colors;
+      if (Status s = write_mesh(output, mesh->mesh, write_options); !s) {
+        return report_error(s.error());
+      }
+    }
+    report.timings.write = seconds_since(write_start);
+    const VertexBakeCounts& c = baked->counts;
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "baked %zu vertices (%zu occluded, %zu filled, %zu unfilled, %zu outside "
+                  "samples)",
+                  c.vertices, c.occluded, c.filled, c.unfilled, c.outside);
+    what = line;
+  }
   report.timings.total = seconds_since(start);
   if (!o.report.empty()) {
     if (Status s = write_report(o.report, report); !s) return report_error(s.error());
   }
-
   if (!o.quiet) {
-    const VertexBakeCounts& c = baked->counts;
-    std::printf(
-        "baked %zu vertices (%zu occluded, %zu filled, %zu unfilled, %zu outside samples) "
-        "in %.2f s -> %s\n",
-        c.vertices, c.occluded, c.filled, c.unfilled, c.outside, report.timings.total,
-        o.output.c_str());
+    std::printf("%s in %.2f s -> %s\n", what.c_str(), report.timings.total, written.c_str());
     std::fflush(stdout);
   }
   return 0;
@@ -285,43 +351,51 @@ int run_bake(const BakeCliOptions& o) {
 RunFunction add_bake_command(CLI::App& app) {
   auto o = std::make_shared<BakeCliOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "bake", "Bake an image onto a mesh through a proxy shape (per-vertex colours)");
+      "bake",
+      "Bake an image onto a mesh through a proxy shape: per-vertex colours (--target vertex: "
+      ".ply, .obj, .glb) or a texture atlas (--target atlas: .obj + .mtl + image, .glb). "
+      "Geometry flags not given are fitted to the mesh (as texbake fit) and printed.");
+  o->command = cmd;
   cmd->add_option("mesh", o->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
   cmd->add_option("--texture", o->texture, "image to bake (anything OpenImageIO reads)")
       ->required();
-  cmd->add_option("-o,--output", o->output, "output mesh (.ply, or .obj with --target vertex)")
+  cmd->add_option("-o,--output", o->output,
+                  "output: .ply (vertex colours), .obj (atlas: + .mtl + atlas image beside it; "
+                  "vertex: v x y z r g b) or .glb (atlas embedded, or COLOR_0)")
       ->required();
   add_geometry_flags(*cmd, o->geometry);
 
-  add_enum_option<std::optional<Target>>(
-      *cmd, "--target", o->target, {{"vertex", Target::kVertex}, {"atlas", Target::kAtlas}},
-      "vertex | atlas (default: vertex for .ply, atlas for .obj; atlas arrives later)");
-  cmd->add_flag("--ascii", o->ascii, "write ASCII PLY instead of binary little-endian");
+  add_atlas_flags(*cmd, o->atlas);
+  cmd->add_flag("--ascii", o->ascii, "vertex target, .ply: ASCII instead of binary little-endian");
 
-  add_enum_option(*cmd, "--filter", o->filter,
-                  {{"bilinear", VertexFilter::kBilinear}, {"area", VertexFilter::kArea}},
-                  "bilinear: sample at the vertex; area: average over the vertex's share of its "
-                  "triangles (default)");
-  cmd->add_option("--samples", o->samples, "samples per vertex for --filter area (default 16)")
+  add_choice_option(*cmd, "--filter", o->filter,
+                    {{"bilinear", VertexFilter::kBilinear}, {"area", VertexFilter::kArea}},
+                    "vertex target: bilinear (sample at the vertex) or area (average over the "
+                    "vertex's share of its triangles, default)");
+  cmd->add_option_function<int>(
+         "--samples", [o](int n) { o->samples = n; },
+         "vertex: samples per vertex for --filter area (default 16, 1..65536); atlas: "
+         "supersamples per texel (default 4, 1..256)")
       ->check(CLI::Range(1, 65536));
 
-  add_enum_option(*cmd, "--visibility", o->visibility,
-                  {{"first", Visibility::kFirst}, {"all", Visibility::kAll}},
-                  "first: only what the projector sees is coloured (default); all: no test");
+  add_choice_option(*cmd, "--visibility", o->visibility,
+                    {{"first", Visibility::kFirst}, {"all", Visibility::kAll}},
+                    "first: only what the projector sees is coloured (default); all: no test");
   add_keyword_or_color(*cmd, "--occluded", o->occluded, {"fill", "project"},
-                       "occluded vertices: fill (smooth from visible neighbours, default), "
+                       "occluded points: fill (smooth from visible neighbours, default), "
                        "project (projected colour anyway) or a colour R,G,B[,A] in [0,1]");
   add_keyword_or_color(*cmd, "--outside", o->outside, {"clamp"},
                        "points outside the proxy's (u,v) domain: clamp (edge texel, default) "
                        "or a colour R,G,B[,A] in [0,1]");
-  add_enum_option<std::optional<WrapMode>>(
+  add_choice_option<std::optional<WrapMode>>(
       *cmd, "--wrap", o->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
       "plane proxy only: clamp (default) or repeat (tile)");
   cmd->add_flag("--linear", o->linear, "interpolate and average in linear light (sRGB image)");
   cmd->add_option("--report", o->report, "write what was done as JSON to this file");
   cmd->add_option("--threads", o->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
-  cmd->add_flag("-q,--quiet", o->quiet, "no progress bar, no summary");
+  cmd->add_flag("-q,--quiet", o->quiet,
+                "no progress bar, no fitted-proxy line, no summary (warnings still print)");
   return [o] { return run_bake(*o); };
 }
 

@@ -31,7 +31,9 @@ RunFunction add_fit_command(CLI::App& app) {
       "Fit a proxy to a mesh (SPEC section 6) and print it as JSON (for --proxy-file).\n"
       "sphere: minimum enclosing sphere; cylinder, cone: principal axis (or --up/--axis), "
       "extents of the points; disk, quad, plane: best-fit plane, minimum enclosing circle or "
-      "rectangle. Geometry flags given are kept; --up also fixes a cylinder's or cone's axis "
+      "rectangle. Geometry flags given are kept and the rest is fitted around them (e.g. "
+      "--center given: the radius encloses the mesh around it; likewise a cylinder's --base, a "
+      "cone's --apex/--height, a plane's --origin); --up also fixes a cylinder's or cone's axis "
       "line, is the sphere's pole, and the hemisphere of a disk/quad/plane normal.");
   cmd->add_option("MESH", opts->mesh, "Mesh file (.obj, .ply, .off, .stl)")->required();
   add_geometry_flags(*cmd, opts->geometry);

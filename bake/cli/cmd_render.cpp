@@ -1,17 +1,21 @@
 // texbake render MESH: a Phong-shaded, ray-traced preview (SPEC section 5;
 // bake/render_preview.h has the camera, lighting and sampling conventions).
-// Thin: parse -> options -> load -> one render_preview call -> atomic write.
+// Thin: parse -> options -> load -> (fit the geometry flags not given, as
+// bake does) -> one render_preview call -> atomic write.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
+#include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
 #include "bake/embree_scene.h"
 #include "bake/parallel.h"
@@ -107,7 +111,11 @@ int run_render(const RenderArgs& args) {
                         projecting ? "--proxy/--proxy-file needs --texture IMG"
                                    : "--texture needs --proxy KIND or --proxy-file F");
   }
-  if (!projecting && (!given_geometry_flags(args.geometry).empty() || args.outside != "clamp")) {
+  // --up also orients the camera, so it is the one geometry flag allowed
+  // without a projection.
+  std::vector<std::string> geometry = given_geometry_flags(args.geometry);
+  std::erase(geometry, std::string("--up"));
+  if (!projecting && (!geometry.empty() || args.outside != "clamp")) {
     return report_error(ErrorCode::kInvalidArgument,
                         "geometry flags and --outside need --texture and --proxy");
   }
@@ -120,11 +128,19 @@ int run_render(const RenderArgs& args) {
           "--outside: expected clamp or R,G,B[,A] in [0, 1], got '" + args.outside + "'");
     }
   }
+  // A complete proxy (all geometry flags, or a file) is validated now;
+  // missing geometry flags are fitted to the mesh once it is loaded.
   std::optional<Proxy> proxy;
   if (projecting) {
-    auto p = proxy_from_flags(args.geometry);
-    if (!p) return report_error(p.error());
-    proxy = std::move(p).value();
+    if (Status st = check_geometry_flags(args.geometry, /*require_proxy=*/true); !st) {
+      return report_error(st.error());
+    }
+    if (args.geometry.proxy_file ||
+        missing_geometry_flags(args.geometry, *args.geometry.kind).empty()) {
+      auto p = proxy_from_flags(args.geometry);
+      if (!p) return report_error(p.error());
+      proxy = std::move(p).value();
+    }
   }
 
   const std::filesystem::path output =
@@ -138,6 +154,11 @@ int run_render(const RenderArgs& args) {
   if (mesh.triangles.empty()) {
     return report_error(ErrorCode::kParse,
                         "'" + args.mesh + "' has no non-degenerate triangle to render");
+  }
+  if (projecting && !proxy) {
+    auto fitted = resolve_proxy(args.geometry, mesh, args.mesh, &std::cerr);
+    if (!fitted) return report_error(fitted.error());
+    proxy = std::move(fitted->proxy);
   }
 
   // The colour source: --texture/--proxy, else the mesh's own atlas or
@@ -216,7 +237,8 @@ RunFunction add_render_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--texture", args->texture,
                   "image projected through --proxy/--proxy-file onto every hit (no visibility "
-                  "test): the ground truth a bake is compared with");
+                  "test): the ground truth a bake is compared with. Geometry flags not given are "
+                  "fitted to the mesh, as in texbake bake");
   cmd->add_option("--outside", args->outside,
                   "points outside the proxy's (u, v) domain: clamp (to the edge texel) or "
                   "R,G,B[,A] in [0, 1]")
@@ -227,14 +249,14 @@ RunFunction add_render_command(CLI::App& app) {
       ->delimiter(',')
       ->expected(3)
       ->check(CLI::Range(0.0, 1.0));
-  const std::map<std::string, ColorChoice> kColors = {{"auto", ColorChoice::kAuto},
-                                                      {"vertex", ColorChoice::kVertex},
-                                                      {"atlas", ColorChoice::kAtlas},
-                                                      {"none", ColorChoice::kNone}};
-  cmd->add_option("--colors", args->colors,
-                  "colour source without --texture: auto (atlas, else vertex colours, else "
-                  "grey), vertex, atlas or none")
-      ->transform(CLI::CheckedTransformer(kColors, CLI::ignore_case));
+  add_choice_option<ColorChoice>(
+      *cmd, "--colors", args->colors,
+      {{"auto", ColorChoice::kAuto},
+       {"vertex", ColorChoice::kVertex},
+       {"atlas", ColorChoice::kAtlas},
+       {"none", ColorChoice::kNone}},
+      "colour source without --texture: auto (atlas, else vertex colours, "
+      "else grey), vertex, atlas or none");
   return [args] {
     if (!args->view.empty() && !(args->view[1] >= -90 && args->view[1] <= 90)) {
       return report_error(ErrorCode::kInvalidArgument,

@@ -25,6 +25,26 @@ FitOptions fit_options_from_flags(const GeometryFlags& flags, ProxyKind kind) {
       given = flags.normal;
       break;
   }
+  // The proxy's fixed point and the cone's height: the fit re-fits the
+  // rest around them (fit_proxy.h, FitOptions::anchor).
+  switch (kind) {
+    case ProxyKind::kSphere:
+    case ProxyKind::kDisk:
+      options.anchor = flags.center;
+      break;
+    case ProxyKind::kCylinder:
+      options.anchor = flags.base;
+      break;
+    case ProxyKind::kCone:
+      options.anchor = flags.apex;
+      options.height = flags.height;
+      break;
+    case ProxyKind::kPlane:
+      options.anchor = flags.origin;
+      break;
+    case ProxyKind::kQuad:
+      break;
+  }
   if (given) {
     options.axis = given;
     options.keep_axis_sign = true;

@@ -5,9 +5,13 @@
 // Given flags are kept as they are. A given pole/axis/normal is the fit's
 // fixed direction, with its sign (the rest is fitted around it); without one,
 // --up fixes a cylinder's or cone's axis line (the cone's apex side still
-// comes from the fit) and is the sphere's pole, as in `texbake fit`. Other
-// given values (a --center, a --radius, ...) replace the fitted ones; the
-// remaining fitted values are not re-fitted around them. When every flag the
+// comes from the fit) and is the sphere's pole, as in `texbake fit`. A given
+// fixed point (sphere/disk --center, cylinder --base, cone --apex, plane
+// --origin) and a cone's --height are passed to the fit, which fits the
+// remaining values around them (FitOptions::anchor: e.g. a sphere's radius
+// then encloses the mesh around the given centre); other given values (a
+// --radius, a cylinder's --height, --equator, a plane's --u-axis/--v-axis)
+// replace the fitted ones, nothing depending on them. When every flag the
 // kind requires is given, nothing is fitted (the pole/axis/normal then
 // defaults to --up, as geometry_flags.h says).
 #pragma once

@@ -387,8 +387,10 @@ struct RealMesh {
 
 class UvGenerateRealMesh : public ::testing::TestWithParam<RealMesh> {};
 
-// Bounds measured on this implementation (issue #4 asks 0.65 on the bunny and
-// the armadillo at 2048 with an 8 texel gutter; see the lead's report).
+// Issue #4's target: utilisation at least 0.65 on the bunny and the
+// armadillo at 2048 with an 8 texel gutter (measured 0.657 and 0.660, L2
+// stretch 1.016 and 1.028). The other meshes' bounds are looser sanity
+// bounds at a smaller size.
 TEST_P(UvGenerateRealMesh, ValidAtlasWithinBounds) {
   const RealMesh p = GetParam();
   const MeshData m = read_off(data(p.file));
@@ -401,8 +403,8 @@ TEST_P(UvGenerateRealMesh, ValidAtlasWithinBounds) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SharedData, UvGenerateRealMesh,
-                         ::testing::Values(RealMesh{"bunny00.off", 2048, 8, 0.60, 1.15},
-                                           RealMesh{"armadillo.off", 2048, 8, 0.62, 1.15},
+                         ::testing::Values(RealMesh{"bunny00.off", 2048, 8, 0.65, 1.05},
+                                           RealMesh{"armadillo.off", 2048, 8, 0.65, 1.05},
                                            RealMesh{"mushroom.off", 1024, 4, 0.5, 1.3},
                                            RealMesh{"fandisk.off", 1024, 4, 0.5, 1.3},
                                            RealMesh{"ChineseDragon-10kv.off", 1024, 4, 0.5, 1.3}),
