@@ -225,13 +225,26 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   const AtlasBands& bands = *bands_or;
   const double prepare_seconds = seconds_since(t0);
 
+  // The scene, shared by the samples' rays and the fill's vertex bake.
+  std::optional<EmbreeScene> scene;
+  if (sh.visibility == Visibility::kFirst && !bands.empty()) {
+    t0 = Clock::now();
+    Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
+    if (!built) return built.error();
+    scene.emplace(std::move(*built));
+    result.timings.scene_build = seconds_since(t0);
+  }
+
   // The fill (per-vertex inpainting: bake_vertex with the bilinear filter and
   // --occluded fill), in the working encoding.
   auto fill_colors_for = [&]() -> Expected<std::vector<Rgba>> {
     VertexBakeOptions vo = sh;
     vo.filter = VertexFilter::kBilinear;
     vo.occluded = OccludedMode::kFill;
-    Expected<VertexBakeResult> vertex = bake_vertex(mesh, image, proxy, vo, nullptr);
+    Expected<VertexBakeStage> stage =
+        bake_vertex_sample(mesh, image, proxy, vo, nullptr, scene ? &*scene : nullptr);
+    if (!stage) return stage.error();
+    Expected<VertexBakeResult> vertex = bake_vertex_finish(mesh, std::move(*stage));
     if (!vertex) return vertex.error();
     std::vector<Rgba> vc = std::move(vertex->colors);  // sRGB-encoded
     if (sh.linear) {
@@ -257,14 +270,6 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   }
 
   // 2. Sample.
-  std::optional<EmbreeScene> scene;
-  if (sh.visibility == Visibility::kFirst && !bands.empty()) {
-    t0 = Clock::now();
-    Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
-    if (!built) return built.error();
-    scene.emplace(std::move(*built));
-    result.timings.scene_build = seconds_since(t0);
-  }
   t0 = Clock::now();
   std::vector<float> linear_pixels;
   SampleContext ctx;
