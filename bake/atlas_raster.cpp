@@ -101,8 +101,13 @@ inline bool contains(const TriPx& t, P2 p, double* b1, double* b2) {
   const P2 ab = t[1] - t[0], ac = t[2] - t[0], ap = p - t[0];
   const double area2 = cross2(ab, ac);
   if (area2 == 0) return false;
-  const double l1 = cross2(ap, ac) / area2;
-  const double l2 = cross2(ab, ap) / area2;
+  const double c1 = cross2(ap, ac), c2 = cross2(ab, ap);
+  // Sign test first: dividing by area2 keeps the signs, so this rejects only
+  // points the exact test below rejects too, without its two divisions (the
+  // rasteriser's hot spot on dense meshes: most candidates fail here).
+  if (area2 > 0 ? (c1 < 0 || c2 < 0) : (c1 > 0 || c2 > 0)) return false;
+  const double l1 = c1 / area2;
+  const double l2 = c2 / area2;
   if (l1 < 0 || l2 < 0 || l1 + l2 > 1) return false;
   *b1 = l1;
   *b2 = l2;
