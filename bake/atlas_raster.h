@@ -119,9 +119,9 @@ class AtlasBands {
   int size_ = 0;
   int samples_ = 0;
   std::vector<std::array<Point, 3>> px_;  // corners in continuous pixel coordinates
-  std::vector<int> row_lo_, row_hi_;  // dilated row range per triangle (lo > hi: none)
-  std::vector<uint32_t> band_start_;  // CSR over band_tris_
-  std::vector<uint32_t> band_tris_;   // triangles per band, ascending
+  std::vector<int> row_lo_, row_hi_;      // dilated row range per triangle (lo > hi: none)
+  std::vector<uint32_t> band_start_;      // CSR over band_tris_
+  std::vector<uint32_t> band_tris_;       // triangles per band, ascending
   std::vector<SampleOffset> offsets_;
 };
 

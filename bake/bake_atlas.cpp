@@ -42,8 +42,8 @@ struct SampleContext {
   // Per vertex, working encoding: the fill, when computed before the pass
   // (null: texels that need it are deferred, see Deferred).
   const std::vector<Rgba>* fill_colors = nullptr;
-  float* atlas = nullptr;                          // size * size * 4
-  uint8_t* baked = nullptr;                        // size * size
+  float* atlas = nullptr;    // size * size * 4
+  uint8_t* baked = nullptr;  // size * size
 };
 
 struct ChunkCounts {
@@ -178,8 +178,7 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
     // the sample's triangle, added after the coloured samples.
     Deferred::Texel* later = nullptr;
     if (!ctx.fill_colors) {
-      w.deferred.texels.push_back(
-          {t, acc, static_cast<uint32_t>(w.deferred.samples.size()), 0});
+      w.deferred.texels.push_back({t, acc, static_cast<uint32_t>(w.deferred.samples.size()), 0});
       later = &w.deferred.texels.back();
     }
     for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
@@ -191,8 +190,8 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
         w.deferred.samples.push_back({r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]});
         ++later->count;
       } else {
-        add_fill(*ctx.mesh, *ctx.fill_colors, r.sample_triangle[s], r.sample_b1[s],
-                 r.sample_b2[s], acc);
+        add_fill(*ctx.mesh, *ctx.fill_colors, r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s],
+                 acc);
       }
     }
     if (!later) store_texel(ctx, t, acc, spt);
@@ -259,8 +258,8 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   // points) need it: their texels are deferred and finished after the pass,
   // if there are any.
   std::vector<Rgba> fill_colors;
-  const bool fill_first = sh.occluded == OccludedMode::kFill &&
-                          sh.visibility == Visibility::kFirst && !bands.empty();
+  const bool fill_first =
+      sh.occluded == OccludedMode::kFill && sh.visibility == Visibility::kFirst && !bands.empty();
   if (fill_first) {
     t0 = Clock::now();
     Expected<std::vector<Rgba>> vc = fill_colors_for();

@@ -92,7 +92,9 @@ const MeshData& source_mesh(int which) {
   static const MeshData armadillo = subdivide(subdivide(load(kData / "armadillo.off")));
   return armadillo;
 }
-const char* mesh_name(int which) { return which == 0 ? "bunny" : "armadillo832k"; }
+const char* mesh_name(int which) {
+  return which == 0 ? "bunny" : "armadillo832k";
+}
 
 const Image& earth() {
   static const Image image = [] {
@@ -243,7 +245,12 @@ void BM_AtlasFillVertexBake(benchmark::State& state) {
   state.counters["bake"] = t.bake;
   state.counters["fill"] = t.fill;
 }
-BENCHMARK(BM_AtlasFillVertexBake)->Arg(0)->Arg(1)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_AtlasFillVertexBake)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 // The PNG atlas write at each zlib level (TexturedWriteOptions::png_compression):
 // seconds and bytes of the padded bunny atlas (2048 or 4096, 4 samples), the

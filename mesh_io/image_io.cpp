@@ -245,8 +245,8 @@ Expected<std::vector<unsigned char>> encode_image(const ImageView& image,
   std::vector<unsigned char> bytes;
   OIIO::Filesystem::IOVecOutput proxy(bytes);
   if (!out->set_ioproxy(&proxy)) {
-    return make_error(ErrorCode::kUnsupported, "cannot write " + what + ": " +
-                                                   first_line(out->geterror()));
+    return make_error(ErrorCode::kUnsupported,
+                      "cannot write " + what + ": " + first_line(out->geterror()));
   }
   if (Status s = encode_into(*out, name, image, e, options, what); !s) return s.error();
   out.reset();

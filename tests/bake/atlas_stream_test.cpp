@@ -37,8 +37,7 @@ Reference reference_atlas(const MeshData& mesh, const ImageView& image, const Pr
   for (std::size_t s = 0; s < count; ++s) {
     const auto& tri = mesh.triangles[raster.sample_triangle[s]];
     const double b1 = raster.sample_b1[s], b2 = raster.sample_b2[s], b0 = 1.0 - b1 - b2;
-    const Float3 a = mesh.positions[tri[0]], b = mesh.positions[tri[1]],
-                 c = mesh.positions[tri[2]];
+    const Float3 a = mesh.positions[tri[0]], b = mesh.positions[tri[1]], c = mesh.positions[tri[2]];
     points[s] = {b0 * a.x + b1 * b.x + b2 * c.x, b0 * a.y + b1 * b.y + b2 * c.y,
                  b0 * a.z + b1 * b.z + b2 * c.z};
     maps[s] = inverse_map(proxy, points[s]);
@@ -167,7 +166,8 @@ TEST(AtlasStream, BandedBakeEqualsWholeAtlasReferenceWithOcclusion) {
   const Proxy proxy = plane_proxy();
   for (int size : {40, 64, 96}) {
     for (int samples : {1, 4, 5}) {
-      for (OccludedMode mode : {OccludedMode::kFill, OccludedMode::kColor, OccludedMode::kProject}) {
+      for (OccludedMode mode :
+           {OccludedMode::kFill, OccludedMode::kColor, OccludedMode::kProject}) {
         AtlasBakeOptions o;
         o.size = size;
         o.samples = samples;
@@ -223,8 +223,8 @@ TEST(AtlasStream, UndefinedSamplesAreFilledLikeTheReference) {
 }
 
 // The textbook dilation: `texels` passes over the whole image.
-std::size_t dilate_full_passes(std::vector<float>& rgba, std::vector<uint8_t>& baked, int w,
-                               int h, int texels) {
+std::size_t dilate_full_passes(std::vector<float>& rgba, std::vector<uint8_t>& baked, int w, int h,
+                               int texels) {
   std::size_t filled = 0;
   for (int pass = 0; pass < texels; ++pass) {
     std::vector<uint8_t> fresh(baked.size(), 0);
