@@ -12,18 +12,16 @@
 namespace texbake {
 namespace {
 
-// Rows per work item. Bands (not square tiles) keep the texels of each work
-// item contiguous and ascending, so the per-band results concatenate into
-// the final ascending order without a sort.
-constexpr int kBandRows = 16;
+// Rows per work item (kAtlasBandRows). Bands (not square tiles) keep the
+// texels of each work item contiguous and ascending, so the per-band results
+// concatenate into the final ascending order without a sort.
+constexpr int kBandRows = kAtlasBandRows;
 
 // Conservative slack on the one-texel dilation, in texels: rounding must
 // never drop a texel that a lookup can reach (extra coverage is harmless).
 constexpr double kCoverSlack = 1e-7;
 
-struct P2 {
-  double x, y;
-};
+using P2 = AtlasBands::Point;
 inline P2 operator-(P2 a, P2 b) {
   return {a.x - b.x, a.y - b.y};
 }
@@ -34,9 +32,7 @@ inline double cross2(P2 a, P2 b) {
   return a.x * b.y - a.y * b.x;
 }
 
-struct TriPx {
-  std::array<P2, 3> p;  // corners in continuous pixel coordinates
-};
+using TriPx = std::array<P2, 3>;  // corners in continuous pixel coordinates
 
 struct Bary {
   double b0, b1, b2;
@@ -102,11 +98,16 @@ Bary closest_barycentric(P2 p, P2 a, P2 b, P2 c) {
 // Barycentrics of p if the (non-degenerate) triangle contains it (edges
 // included), else false.
 inline bool contains(const TriPx& t, P2 p, double* b1, double* b2) {
-  const P2 ab = t.p[1] - t.p[0], ac = t.p[2] - t.p[0], ap = p - t.p[0];
+  const P2 ab = t[1] - t[0], ac = t[2] - t[0], ap = p - t[0];
   const double area2 = cross2(ab, ac);
   if (area2 == 0) return false;
-  const double l1 = cross2(ap, ac) / area2;
-  const double l2 = cross2(ab, ap) / area2;
+  const double c1 = cross2(ap, ac), c2 = cross2(ab, ap);
+  // Sign test first: dividing by area2 keeps the signs, so this rejects only
+  // points the exact test below rejects too, without its two divisions (the
+  // rasteriser's hot spot on dense meshes: most candidates fail here).
+  if (area2 > 0 ? (c1 < 0 || c2 < 0) : (c1 > 0 || c2 > 0)) return false;
+  const double l1 = c1 / area2;
+  const double l2 = c2 / area2;
   if (l1 < 0 || l2 < 0 || l1 + l2 > 1) return false;
   *b1 = l1;
   *b2 = l2;
@@ -123,9 +124,9 @@ struct EdgeAxes {
 
   EdgeAxes(const TriPx& t, double h) {
     for (int k = 0; k < 3; ++k) {
-      const P2 e = t.p[(k + 1) % 3] - t.p[k];
+      const P2 e = t[(k + 1) % 3] - t[k];
       n[k] = {-e.y, e.x};
-      const double a = dot2(n[k], t.p[0]), b = dot2(n[k], t.p[1]), c = dot2(n[k], t.p[2]);
+      const double a = dot2(n[k], t[0]), b = dot2(n[k], t[1]), c = dot2(n[k], t[2]);
       lo[k] = std::min({a, b, c});
       hi[k] = std::max({a, b, c});
       reach[k] = h * (std::abs(n[k].x) + std::abs(n[k].y));
@@ -138,13 +139,6 @@ struct EdgeAxes {
     }
     return true;
   }
-};
-
-struct BandResult {
-  std::vector<uint32_t> texels;
-  std::vector<uint32_t> tri;
-  std::vector<float> b1, b2;
-  std::size_t border = 0;
 };
 
 uint32_t radical_inverse_2(uint32_t s) {
@@ -168,7 +162,7 @@ SampleOffset sample_offset(int s, int n) {
   return {(s + 0.5) / n - 0.5, (y - std::floor(y)) - 0.5};
 }
 
-Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOptions& options) {
+Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRasterOptions& options) {
   const int n = options.size;
   const int spt = options.samples;
   if (n < 1 || n > kMaxAtlasSize) {
@@ -185,10 +179,14 @@ Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOpt
     return make_error(ErrorCode::kInvalidArgument, "the mesh has no UV coordinates");
   }
   const std::size_t tri_count = mesh.triangles.size();
+  AtlasBands bands;
+  bands.size_ = n;
+  bands.samples_ = spt;
 
   // Triangle corners in pixel space (SPEC section 1 via pixel_from_uv), and
   // validation: the first bad triangle is reported.
-  std::vector<TriPx> px(tri_count);
+  std::vector<TriPx>& px = bands.px_;
+  px.resize(tri_count);
   std::vector<uint8_t> bad(tri_count, 0);
   parallel_for_chunks(tri_count, 4096, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
@@ -204,7 +202,7 @@ Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOpt
           break;
         }
         const PixelPos pp = pixel_from_uv(UV{uv.u, uv.v}, n, n);
-        px[t].p[k] = {pp.x, pp.y};
+        px[t][k] = {pp.x, pp.y};
       }
     }
   });
@@ -217,11 +215,15 @@ Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOpt
   }
 
   // Bin triangles into bands of rows by their dilated row range.
-  const int bands = (n + kBandRows - 1) / kBandRows;
-  std::vector<int> row_lo(tri_count), row_hi(tri_count);
-  std::vector<uint32_t> band_start(bands + 1, 0);
+  const int band_total = (n + kBandRows - 1) / kBandRows;
+  std::vector<int>& row_lo = bands.row_lo_;
+  std::vector<int>& row_hi = bands.row_hi_;
+  row_lo.resize(tri_count);
+  row_hi.resize(tri_count);
+  std::vector<uint32_t>& band_start = bands.band_start_;
+  band_start.assign(band_total + 1, 0);
   for (std::size_t t = 0; t < tri_count; ++t) {
-    const auto& p = px[t].p;
+    const auto& p = px[t];
     const double ymin = std::min({p[0].y, p[1].y, p[2].y});
     const double ymax = std::max({p[0].y, p[1].y, p[2].y});
     const double lo = std::max(std::ceil(ymin - 1 - kCoverSlack), 0.0);
@@ -235,8 +237,9 @@ Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOpt
     row_hi[t] = static_cast<int>(hi);
     for (int b = row_lo[t] / kBandRows; b <= row_hi[t] / kBandRows; ++b) ++band_start[b + 1];
   }
-  for (int b = 0; b < bands; ++b) band_start[b + 1] += band_start[b];
-  std::vector<uint32_t> band_tris(band_start[bands]);
+  for (int b = 0; b < band_total; ++b) band_start[b + 1] += band_start[b];
+  std::vector<uint32_t>& band_tris = bands.band_tris_;
+  band_tris.resize(band_start[band_total]);
   {
     std::vector<uint32_t> fill(band_start.begin(), band_start.end() - 1);
     for (std::size_t t = 0; t < tri_count; ++t) {
@@ -247,99 +250,127 @@ Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOpt
     }
   }
 
-  std::vector<SampleOffset> offsets(spt);
-  for (int s = 0; s < spt; ++s) offsets[s] = sample_offset(s, spt);
+  bands.offsets_.resize(spt);
+  for (int s = 0; s < spt; ++s) bands.offsets_[s] = sample_offset(s, spt);
+  return bands;
+}
 
-  std::vector<BandResult> results(bands);
-  parallel_for_chunks(bands, 1, [&](std::size_t band_begin, std::size_t band_end) {
-    std::vector<uint32_t> pair_texel, pair_tri, count, cand;
+void AtlasBands::rasterize(std::size_t band, AtlasRaster& out, AtlasBandScratch& scratch) const {
+  const int n = size_;
+  const int spt = samples_;
+  const std::vector<TriPx>& px = px_;
+  out.size = n;
+  out.samples_per_texel = spt;
+  out.texels.clear();
+  out.sample_triangle.clear();
+  out.sample_b1.clear();
+  out.sample_b2.clear();
+  out.border_samples = 0;
+
+  std::vector<uint32_t>& pair_texel = scratch.pair_texel;
+  std::vector<uint32_t>& pair_tri = scratch.pair_tri;
+  std::vector<uint32_t>& count = scratch.count;
+  std::vector<uint32_t>& cand = scratch.cand;
+  const int y0 = static_cast<int>(band) * kBandRows;
+  const int y1 = std::min(n, y0 + kBandRows);
+  const std::size_t local_count = static_cast<std::size_t>(y1 - y0) * n;
+  pair_texel.clear();
+  pair_tri.clear();
+  // Triangles arrive in ascending index order, so each texel's candidate
+  // list (after the stable counting sort below) is ascending too.
+  for (uint32_t i = band_start_[band]; i < band_start_[band + 1]; ++i) {
+    const uint32_t t = band_tris_[i];
+    const auto& p = px[t];
+    const double xmin = std::min({p[0].x, p[1].x, p[2].x});
+    const double xmax = std::max({p[0].x, p[1].x, p[2].x});
+    const int x_lo = static_cast<int>(std::max(std::ceil(xmin - 1 - kCoverSlack), 0.0));
+    const int x_hi = static_cast<int>(std::min(std::floor(xmax + 1 + kCoverSlack), n - 1.0));
+    const int r_lo = std::max(row_lo_[t], y0), r_hi = std::min(row_hi_[t], y1 - 1);
+    const EdgeAxes axes(px[t], 1 + kCoverSlack);
+    for (int y = r_lo; y <= r_hi; ++y) {
+      for (int x = x_lo; x <= x_hi; ++x) {
+        if (!axes.overlaps({static_cast<double>(x), static_cast<double>(y)})) continue;
+        pair_texel.push_back(static_cast<uint32_t>((y - y0) * n + x));
+        pair_tri.push_back(t);
+      }
+    }
+  }
+  count.assign(local_count + 1, 0);
+  for (uint32_t lt : pair_texel) ++count[lt + 1];
+  for (std::size_t k = 0; k < local_count; ++k) count[k + 1] += count[k];
+  cand.resize(pair_tri.size());
+  scratch.fill.assign(count.begin(), count.end() - 1);
+  for (std::size_t k = 0; k < pair_tri.size(); ++k) {
+    cand[scratch.fill[pair_texel[k]]++] = pair_tri[k];
+  }
+
+  for (std::size_t lt = 0; lt < local_count; ++lt) {
+    const uint32_t c0 = count[lt], c1 = count[lt + 1];
+    if (c0 == c1) continue;
+    const int x = static_cast<int>(lt % n), y = y0 + static_cast<int>(lt / n);
+    out.texels.push_back(static_cast<uint32_t>(y) * static_cast<uint32_t>(n) + x);
+    for (int s = 0; s < spt; ++s) {
+      const P2 q{x + offsets_[s].dx, y + offsets_[s].dy};
+      double b1 = 0, b2 = 0;
+      uint32_t chosen = 0xFFFFFFFFu;
+      for (uint32_t k = c0; k < c1; ++k) {
+        if (contains(px[cand[k]], q, &b1, &b2)) {
+          chosen = cand[k];
+          break;
+        }
+      }
+      if (chosen == 0xFFFFFFFFu) {
+        // Border sample: nearest point of the nearest candidate.
+        double best = std::numeric_limits<double>::infinity();
+        for (uint32_t k = c0; k < c1; ++k) {
+          const auto& p = px[cand[k]];
+          const Bary w = closest_barycentric(q, p[0], p[1], p[2]);
+          const P2 cp{w.b0 * p[0].x + w.b1 * p[1].x + w.b2 * p[2].x,
+                      w.b0 * p[0].y + w.b1 * p[1].y + w.b2 * p[2].y};
+          const double d = dot2(q - cp, q - cp);
+          if (d < best) best = d, chosen = cand[k], b1 = w.b1, b2 = w.b2;
+        }
+        ++out.border_samples;
+      }
+      out.sample_triangle.push_back(chosen);
+      out.sample_b1.push_back(static_cast<float>(b1));
+      out.sample_b2.push_back(static_cast<float>(b2));
+    }
+  }
+}
+
+Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOptions& options) {
+  Expected<AtlasBands> prepared = AtlasBands::prepare(mesh, options);
+  if (!prepared) return prepared.error();
+  const AtlasBands& bands = *prepared;
+  std::vector<AtlasRaster> results(bands.band_count());
+  parallel_for_chunks(bands.band_count(), 1, [&](std::size_t band_begin, std::size_t band_end) {
+    AtlasBandScratch scratch;
     for (std::size_t band = band_begin; band < band_end; ++band) {
-      const int y0 = static_cast<int>(band) * kBandRows;
-      const int y1 = std::min(n, y0 + kBandRows);
-      const std::size_t local_count = static_cast<std::size_t>(y1 - y0) * n;
-      pair_texel.clear();
-      pair_tri.clear();
-      // Triangles arrive in ascending index order, so each texel's candidate
-      // list (after the stable counting sort below) is ascending too.
-      for (uint32_t i = band_start[band]; i < band_start[band + 1]; ++i) {
-        const uint32_t t = band_tris[i];
-        const auto& p = px[t].p;
-        const double xmin = std::min({p[0].x, p[1].x, p[2].x});
-        const double xmax = std::max({p[0].x, p[1].x, p[2].x});
-        const int x_lo = static_cast<int>(std::max(std::ceil(xmin - 1 - kCoverSlack), 0.0));
-        const int x_hi = static_cast<int>(std::min(std::floor(xmax + 1 + kCoverSlack), n - 1.0));
-        const int r_lo = std::max(row_lo[t], y0), r_hi = std::min(row_hi[t], y1 - 1);
-        const EdgeAxes axes(px[t], 1 + kCoverSlack);
-        for (int y = r_lo; y <= r_hi; ++y) {
-          for (int x = x_lo; x <= x_hi; ++x) {
-            if (!axes.overlaps({static_cast<double>(x), static_cast<double>(y)})) continue;
-            pair_texel.push_back(static_cast<uint32_t>((y - y0) * n + x));
-            pair_tri.push_back(t);
-          }
-        }
-      }
-      count.assign(local_count + 1, 0);
-      for (uint32_t lt : pair_texel) ++count[lt + 1];
-      for (std::size_t k = 0; k < local_count; ++k) count[k + 1] += count[k];
-      cand.resize(pair_tri.size());
-      {
-        std::vector<uint32_t> fill(count.begin(), count.end() - 1);
-        for (std::size_t k = 0; k < pair_tri.size(); ++k) cand[fill[pair_texel[k]]++] = pair_tri[k];
-      }
-
-      BandResult& out = results[band];
-      for (std::size_t lt = 0; lt < local_count; ++lt) {
-        const uint32_t c0 = count[lt], c1 = count[lt + 1];
-        if (c0 == c1) continue;
-        const int x = static_cast<int>(lt % n), y = y0 + static_cast<int>(lt / n);
-        out.texels.push_back(static_cast<uint32_t>(y) * static_cast<uint32_t>(n) + x);
-        for (int s = 0; s < spt; ++s) {
-          const P2 q{x + offsets[s].dx, y + offsets[s].dy};
-          double b1 = 0, b2 = 0;
-          uint32_t chosen = 0xFFFFFFFFu;
-          for (uint32_t k = c0; k < c1; ++k) {
-            if (contains(px[cand[k]], q, &b1, &b2)) {
-              chosen = cand[k];
-              break;
-            }
-          }
-          if (chosen == 0xFFFFFFFFu) {
-            // Border sample: nearest point of the nearest candidate.
-            double best = std::numeric_limits<double>::infinity();
-            for (uint32_t k = c0; k < c1; ++k) {
-              const auto& p = px[cand[k]].p;
-              const Bary w = closest_barycentric(q, p[0], p[1], p[2]);
-              const P2 cp{w.b0 * p[0].x + w.b1 * p[1].x + w.b2 * p[2].x,
-                          w.b0 * p[0].y + w.b1 * p[1].y + w.b2 * p[2].y};
-              const double d = dot2(q - cp, q - cp);
-              if (d < best) best = d, chosen = cand[k], b1 = w.b1, b2 = w.b2;
-            }
-            ++out.border;
-          }
-          out.tri.push_back(chosen);
-          out.b1.push_back(static_cast<float>(b1));
-          out.b2.push_back(static_cast<float>(b2));
-        }
-      }
+      bands.rasterize(band, results[band], scratch);
     }
   });
 
   AtlasRaster raster;
-  raster.size = n;
-  raster.samples_per_texel = spt;
-  std::size_t texel_total = 0;
-  for (const BandResult& r : results) texel_total += r.texels.size();
+  raster.size = bands.size();
+  raster.samples_per_texel = bands.samples_per_texel();
+  std::size_t texel_total = 0, sample_total = 0;
+  for (const AtlasRaster& r : results) {
+    texel_total += r.texels.size();
+    sample_total += r.sample_count();
+  }
   raster.texels.reserve(texel_total);
-  raster.sample_triangle.reserve(texel_total * spt);
-  raster.sample_b1.reserve(texel_total * spt);
-  raster.sample_b2.reserve(texel_total * spt);
-  for (BandResult& r : results) {
+  raster.sample_triangle.reserve(sample_total);
+  raster.sample_b1.reserve(sample_total);
+  raster.sample_b2.reserve(sample_total);
+  for (AtlasRaster& r : results) {
     raster.texels.insert(raster.texels.end(), r.texels.begin(), r.texels.end());
-    raster.sample_triangle.insert(raster.sample_triangle.end(), r.tri.begin(), r.tri.end());
-    raster.sample_b1.insert(raster.sample_b1.end(), r.b1.begin(), r.b1.end());
-    raster.sample_b2.insert(raster.sample_b2.end(), r.b2.begin(), r.b2.end());
-    raster.border_samples += r.border;
-    r = BandResult{};  // release as we go: keeps the peak near one copy
+    raster.sample_triangle.insert(raster.sample_triangle.end(), r.sample_triangle.begin(),
+                                  r.sample_triangle.end());
+    raster.sample_b1.insert(raster.sample_b1.end(), r.sample_b1.begin(), r.sample_b1.end());
+    raster.sample_b2.insert(raster.sample_b2.end(), r.sample_b2.begin(), r.sample_b2.end());
+    raster.border_samples += r.border_samples;
+    r = AtlasRaster{};  // release as we go: keeps the peak near one copy
   }
   return raster;
 }

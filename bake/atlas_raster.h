@@ -21,6 +21,8 @@
 // top row first, like the image), and does not depend on the thread count.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -72,6 +74,56 @@ inline Float2 triangle_uv(const MeshData& mesh, std::size_t t, int k) {
 // Errors: kInvalidArgument for a size or sample count out of range or a mesh
 // without UVs; kParse for a non-finite UV or a UV index out of range.
 Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOptions& options);
+
+// Banded rasterisation, for bakes that stream over the atlas instead of
+// holding every sample at once (bake_atlas): the validated pixel-space
+// triangles binned into bands of kAtlasBandRows rows. Band b covers rows
+// [b * kAtlasBandRows, min(size, (b + 1) * kAtlasBandRows)); rasterising it
+// gives exactly the texels (ascending) and samples that rasterize_atlas gives
+// for those rows, so the concatenation of all bands in order is
+// rasterize_atlas's result (rasterize_atlas is implemented that way).
+inline constexpr int kAtlasBandRows = 16;
+
+// Per-thread working memory of AtlasBands::rasterize (reused across bands, so
+// a stream of bands allocates only while the buffers grow).
+struct AtlasBandScratch {
+  std::vector<uint32_t> pair_texel, pair_tri, count, cand, fill;
+};
+
+class AtlasBands {
+ public:
+  // Errors: those of rasterize_atlas.
+  static Expected<AtlasBands> prepare(const MeshData& mesh, const AtlasRasterOptions& options);
+
+  int size() const { return size_; }
+  int samples_per_texel() const { return samples_; }
+  std::size_t band_count() const { return band_start_.size() - 1; }
+  // Rows of band `band` (kAtlasBandRows, fewer for the last).
+  int band_rows(std::size_t band) const {
+    const int y0 = static_cast<int>(band) * kAtlasBandRows;
+    return std::min(kAtlasBandRows, size_ - y0);
+  }
+  // True if no triangle reaches a row of the atlas (nothing to bake).
+  bool empty() const { return band_tris_.empty(); }
+
+  // Rasterises band `band` into `out` (cleared first; size and
+  // samples_per_texel set; texel indices are whole-atlas indices y * size + x).
+  // Thread-safe for distinct out / scratch.
+  void rasterize(std::size_t band, AtlasRaster& out, AtlasBandScratch& scratch) const;
+
+  struct Point {  // continuous pixel coordinates (SPEC section 1)
+    double x, y;
+  };
+
+ private:
+  int size_ = 0;
+  int samples_ = 0;
+  std::vector<std::array<Point, 3>> px_;  // corners in continuous pixel coordinates
+  std::vector<int> row_lo_, row_hi_;      // dilated row range per triangle (lo > hi: none)
+  std::vector<uint32_t> band_start_;      // CSR over band_tris_
+  std::vector<uint32_t> band_tris_;       // triangles per band, ascending
+  std::vector<SampleOffset> offsets_;
+};
 
 // One byte per texel (size * size, row-major): 1 where raster covers a texel.
 std::vector<uint8_t> coverage_mask(const AtlasRaster& raster);

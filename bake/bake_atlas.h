@@ -16,6 +16,12 @@
 //     triangle. A texel is the plain mean of its samples.
 //  3. pad (bake/dilate.h): `padding` rings of 8-neighbour dilation, or
 //     push-pull over the whole background for kPaddingInfinite.
+// Stages 1 and 2 run band by band (AtlasBands, kAtlasBandRows rows at a
+// time, in parallel), so the samples of the whole atlas are never held at
+// once: memory is the atlas itself plus a band's samples per thread. With
+// kFill and visibility the fill is computed before the pass (sharing the
+// Embree scene); otherwise texels with undefined samples are finished after
+// it. The result equals the whole-atlas computation (atlas_stream_test.cpp).
 // Texels neither covered nor padded are transparent black (0, 0, 0, 0).
 // With options.shading.linear the image is linearised once, samples average
 // in linear and each texel is converted back to sRGB. Results do not depend
@@ -60,6 +66,8 @@ struct AtlasBakeCounts {
 };
 
 struct AtlasBakeTimings {  // seconds
+  // rasterize and sample interleave per band: the pass's wall time is split
+  // between them in proportion to their summed thread time.
   double rasterize = 0;
   double scene_build = 0;  // Embree BVH (0 with Visibility::kAll)
   double sample = 0;       // mapping, rays, image samples, texel means

@@ -266,7 +266,7 @@ Rgba image_mean(const ImageView& image) {
 
 Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageView& image,
                                              const Proxy& proxy, const VertexBakeOptions& options,
-                                             Progress* progress) {
+                                             Progress* progress, const EmbreeScene* shared_scene) {
   using Clock = std::chrono::steady_clock;
   VertexBakeStage stage;
   stage.options = options;
@@ -279,7 +279,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   // Scene (SPEC section 3): built once, LOW quality since every ray is traced
   // once; only when the visibility test is on.
   std::optional<EmbreeScene> scene;
-  if (options.visibility == Visibility::kFirst) {
+  if (options.visibility == Visibility::kFirst && !shared_scene) {
     const auto start = Clock::now();
     Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
     if (!built) return built.error();
@@ -316,6 +316,9 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   if (scene) {
     ctx.scene = &*scene;
     ctx.ray_offset = visibility_offset(*scene);
+  } else if (shared_scene && options.visibility == Visibility::kFirst) {
+    ctx.scene = shared_scene;
+    ctx.ray_offset = visibility_offset(*shared_scene);
   }
 
   std::vector<uint8_t>& state = stage.state;

@@ -34,6 +34,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "bake/embree_scene.h"
 #include "bake/occlusion_fill.h"
 #include "bake/options.h"
 #include "bake/progress.h"
@@ -85,9 +86,13 @@ struct VertexBakeStage {
   FillPlan plan;
   VertexBakeOptions options;
 };
+// shared_scene: a scene already built over mesh (EmbreeScene::build), used
+// for the visibility rays instead of building one (the atlas's --occluded
+// fill shares its scene); not owned. Results are the same either way.
 Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageView& image,
                                              const Proxy& proxy, const VertexBakeOptions& options,
-                                             Progress* progress = nullptr);
+                                             Progress* progress = nullptr,
+                                             const EmbreeScene* shared_scene = nullptr);
 Expected<VertexBakeResult> bake_vertex_finish(const MeshData& mesh, VertexBakeStage stage);
 
 }  // namespace texbake

@@ -1,6 +1,7 @@
 // OpenImageIO <-> Image. The only file that includes OIIO.
 #include "mesh_io/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -145,24 +146,84 @@ std::vector<T> quantize(const ImageView& image, int channels, float max) {
 
 }  // namespace
 
+namespace {
+
+// What write_image writes for `ext` (lower case, with the dot).
+struct Encoding {
+  int channels = 3;
+  ImageBitDepth depth = ImageBitDepth::k8;
+};
+
+Encoding encoding_for(const ImageView& image, const std::string& ext,
+                      const ImageWriteOptions& options) {
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  bool opaque = true;
+  for (std::size_t i = 0; i < n && opaque; ++i) opaque = image.data[i * 4 + 3] >= 1.f;
+  Encoding e;
+  e.channels = opaque ? 3 : 4;
+  e.depth = options.bit_depth;
+  if (ext == ".exr" || ext == ".hdr") e.depth = ImageBitDepth::kFloat;
+  if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg") && e.depth == ImageBitDepth::kFloat) {
+    e.depth = ImageBitDepth::k16;
+  }
+  if (ext == ".jpg" || ext == ".jpeg") e.depth = ImageBitDepth::k8;
+  return e;
+}
+
+std::string lower_ext(const fs::path& path) {
+  std::string ext = path.extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+// Opens `out` on `name` with the spec for `e` and writes the pixels. `what`
+// names the destination in errors.
+Status encode_into(OIIO::ImageOutput& out, const std::string& name, const ImageView& image,
+                   const Encoding& e, const ImageWriteOptions& options, const std::string& what) {
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  const int channels = e.channels;
+  OIIO::TypeDesc type = e.depth == ImageBitDepth::k8    ? OIIO::TypeDesc::UINT8
+                        : e.depth == ImageBitDepth::k16 ? OIIO::TypeDesc::UINT16
+                                                        : OIIO::TypeDesc::FLOAT;
+  OIIO::ImageSpec spec(image.width, image.height, channels, type);
+  if (channels == 4) {
+    spec.alpha_channel = 3;
+    // Our values are unassociated (straight) alpha: stop OIIO dividing by it.
+    spec.attribute("oiio:UnassociatedAlpha", 1);
+  }
+  spec.attribute("png:compressionLevel", std::clamp(options.png_compression, 0, 9));
+  if (!out.open(name, spec)) {
+    return make_error(ErrorCode::kIo, "cannot write " + what + ": " + first_line(out.geterror()));
+  }
+  bool ok = false;
+  if (e.depth == ImageBitDepth::k8) {
+    const auto q = quantize<uint8_t>(image, channels, 255.f);
+    ok = out.write_image(OIIO::TypeDesc::UINT8, q.data());
+  } else if (e.depth == ImageBitDepth::k16) {
+    const auto q = quantize<uint16_t>(image, channels, 65535.f);
+    ok = out.write_image(OIIO::TypeDesc::UINT16, q.data());
+  } else {
+    std::vector<float> f(n * channels);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < channels; ++k) f[i * channels + k] = image.data[i * 4 + k];
+    }
+    ok = out.write_image(OIIO::TypeDesc::FLOAT, f.data());
+  }
+  const bool closed = out.close();
+  if (!ok || !closed) {
+    return make_error(ErrorCode::kIo, "cannot write " + what + ": " + first_line(out.geterror()));
+  }
+  return ok_status();
+}
+
+}  // namespace
+
 Status write_image(const fs::path& path, const ImageView& image, const ImageWriteOptions& options) {
   if (image.width <= 0 || image.height <= 0 || image.data == nullptr) {
     return make_error(ErrorCode::kInternal, "cannot write " + path.string() + ": empty image");
   }
-  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
-  bool opaque = true;
-  for (std::size_t i = 0; i < n && opaque; ++i) opaque = image.data[i * 4 + 3] >= 1.f;
-  const int channels = opaque ? 3 : 4;
-
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  ImageBitDepth depth = options.bit_depth;
-  if (ext == ".exr" || ext == ".hdr") depth = ImageBitDepth::kFloat;
-  if ((ext == ".png" || ext == ".jpg" || ext == ".jpeg") && depth == ImageBitDepth::kFloat) {
-    depth = ImageBitDepth::k16;
-  }
-  if (ext == ".jpg" || ext == ".jpeg") depth = ImageBitDepth::k8;
-
+  const std::string ext = lower_ext(path);
+  const Encoding e = encoding_for(image, ext, options);
   return write_atomically(path, [&](const fs::path& temp) -> Status {
     auto out = OIIO::ImageOutput::create(temp.string());
     if (!out) {
@@ -170,40 +231,41 @@ Status write_image(const fs::path& path, const ImageView& image, const ImageWrit
                                                      ": no image format for '" + ext + "' (" +
                                                      first_line(OIIO::geterror()) + ")");
     }
-    OIIO::TypeDesc type = depth == ImageBitDepth::k8    ? OIIO::TypeDesc::UINT8
-                          : depth == ImageBitDepth::k16 ? OIIO::TypeDesc::UINT16
-                                                        : OIIO::TypeDesc::FLOAT;
-    OIIO::ImageSpec spec(image.width, image.height, channels, type);
-    if (channels == 4) {
-      spec.alpha_channel = 3;
-      // Our values are unassociated (straight) alpha: stop OIIO dividing by it.
-      spec.attribute("oiio:UnassociatedAlpha", 1);
-    }
-    if (!out->open(temp.string(), spec)) {
-      return make_error(ErrorCode::kIo,
-                        "cannot write " + path.string() + ": " + first_line(out->geterror()));
-    }
-    bool ok = false;
-    if (depth == ImageBitDepth::k8) {
-      const auto q = quantize<uint8_t>(image, channels, 255.f);
-      ok = out->write_image(OIIO::TypeDesc::UINT8, q.data());
-    } else if (depth == ImageBitDepth::k16) {
-      const auto q = quantize<uint16_t>(image, channels, 65535.f);
-      ok = out->write_image(OIIO::TypeDesc::UINT16, q.data());
-    } else {
-      std::vector<float> f(n * channels);
-      for (std::size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < channels; ++k) f[i * channels + k] = image.data[i * 4 + k];
-      }
-      ok = out->write_image(OIIO::TypeDesc::FLOAT, f.data());
-    }
-    const bool closed = out->close();
-    if (!ok || !closed) {
-      return make_error(ErrorCode::kIo,
-                        "cannot write " + path.string() + ": " + first_line(out->geterror()));
-    }
-    return ok_status();
+    return encode_into(*out, temp.string(), image, e, options, path.string());
   });
+}
+
+Expected<std::vector<unsigned char>> encode_image(const ImageView& image,
+                                                  const std::string& extension,
+                                                  const ImageWriteOptions& options) {
+  const std::string what = "a " + extension + " image in memory";
+  if (image.width <= 0 || image.height <= 0 || image.data == nullptr) {
+    return make_error(ErrorCode::kInternal, "cannot write " + what + ": empty image");
+  }
+  const std::string ext = lower_ext(fs::path("image" + extension));
+  const Encoding e = encoding_for(image, ext, options);
+  const std::string name = "image" + ext;
+  auto out = OIIO::ImageOutput::create(name);
+  if (!out) {
+    return make_error(ErrorCode::kUnsupported, "cannot write " + what + ": no image format (" +
+                                                   first_line(OIIO::geterror()) + ")");
+  }
+  if (!out->supports("ioproxy")) {
+    return make_error(ErrorCode::kUnsupported,
+                      "cannot write " + what + ": OpenImageIO cannot write it to memory");
+  }
+  // OIIO 2.4: ImageOutput::set_ioproxy with a Filesystem::IOVecOutput
+  // collects the encoded bytes in our vector instead of a file.
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput proxy(bytes);
+  if (!out->set_ioproxy(&proxy)) {
+    return make_error(ErrorCode::kUnsupported,
+                      "cannot write " + what + ": " + first_line(out->geterror()));
+  }
+  if (Status s = encode_into(*out, name, image, e, options, what); !s) return s.error();
+  out.reset();
+  if (bytes.empty()) return make_error(ErrorCode::kIo, "cannot write " + what + ": no bytes");
+  return bytes;
 }
 
 }  // namespace texbake

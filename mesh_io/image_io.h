@@ -21,6 +21,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include "mapping/error.h"
@@ -62,12 +63,26 @@ enum class ImageBitDepth {
   kFloat,  // EXR (always float, whatever is requested)
 };
 
+// zlib level of OIIO's PNG writer when not set ("png:compressionLevel").
+inline constexpr int kPngCompressionDefault = 6;
+
 struct ImageWriteOptions {
   ImageBitDepth bit_depth = ImageBitDepth::k8;
+  // PNG only: zlib/deflate level 0 (fastest, largest) .. 9 (slowest,
+  // smallest); lossless at every level.
+  int png_compression = kPngCompressionDefault;
 };
 
 // Precondition: image has at least 1x1 pixel.
 Status write_image(const std::filesystem::path& path, const ImageView& image,
                    const ImageWriteOptions& options = {});
+
+// The bytes of the file write_image would write for a file named
+// "image<extension>" (e.g. ".png"), encoded in memory (OIIO's IOProxy), for
+// containers that embed images (GLB). Formats whose OIIO writer cannot write
+// to memory: kUnsupported. Precondition: image has at least 1x1 pixel.
+Expected<std::vector<unsigned char>> encode_image(const ImageView& image,
+                                                  const std::string& extension,
+                                                  const ImageWriteOptions& options = {});
 
 }  // namespace texbake

@@ -9,7 +9,6 @@
 #include <array>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <sstream>
 #include <unordered_map>
@@ -107,28 +106,6 @@ Status serialise_glb(const fs::path& target, const fs::path& temp, tinygltf::Mod
   return ok_status();
 }
 
-// The atlas as PNG bytes: write_image (image_io, the one OIIO user) into a
-// temporary file beside the GLB's own temporary, read back, removed.
-Expected<std::vector<unsigned char>> encode_png(const fs::path& temp_glb, const ImageView& atlas,
-                                                ImageBitDepth depth) {
-  const fs::path png = temp_glb.string() + ".atlas.png";
-  ImageWriteOptions io;
-  io.bit_depth = depth;
-  Status s = write_image(png, atlas, io);
-  if (!s) return s.error();
-  std::ifstream in(png, std::ios::binary);
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
-  const bool ok = in.good() || in.eof();
-  in.close();
-  std::error_code ec;
-  fs::remove(png, ec);
-  if (!ok || bytes.empty()) {
-    return make_error(ErrorCode::kIo, "cannot read back the atlas PNG " + png.string());
-  }
-  return bytes;
-}
-
 struct CornerKey {
   uint32_t vertex, uv, normal;
   bool operator==(const CornerKey&) const = default;
@@ -185,7 +162,10 @@ Status write_textured_glb(const fs::path& path, const MeshData& mesh, const Imag
   }
 
   return write_atomically(path, [&](const fs::path& temp) -> Status {
-    auto png = encode_png(temp, atlas, options.bit_depth);
+    ImageWriteOptions io;
+    io.bit_depth = options.bit_depth;
+    io.png_compression = options.png_compression;
+    auto png = encode_image(atlas, ".png", io);
     if (!png) return png.error();
     tinygltf::Model model = new_model();
     tinygltf::Primitive prim;
@@ -241,6 +221,7 @@ Status write_textured_obj(const fs::path& path, const MeshData& mesh, const Imag
   const bool mtl_existed = fs::exists(mtl_path, ec);
   ImageWriteOptions io;
   io.bit_depth = options.bit_depth;
+  io.png_compression = options.png_compression;
   if (Status s = write_image(image_path, atlas, io); !s) return s;
   MeshWriteOptions mo;
   mo.obj_material_texture = image_path.filename().string();  // relative: beside the OBJ
