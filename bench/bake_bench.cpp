@@ -26,6 +26,7 @@
 #include "bake/embree_scene.h"
 #include "bake/parallel.h"
 #include "bake/visibility.h"
+#include "bench/bench_meshes.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
 #include "mesh_io/write_mesh.h"
@@ -33,53 +34,17 @@
 namespace texbake {
 namespace {
 
+using bench::die;
+
 const std::filesystem::path kData = TEXBAKE_SHARED_DATA_DIR;
 
-[[noreturn]] void die(const std::string& what) {
-  std::fprintf(stderr, "bake_bench: %s\n", what.c_str());
-  std::exit(1);
-}
-
-// One round of 1-to-4 midpoint subdivision of the triangles (edge midpoints
-// shared between neighbours); the result's faces are its triangles.
-MeshData subdivide(const MeshData& in) {
-  MeshData out;
-  out.positions = in.positions;
-  std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoint;
-  auto mid = [&](uint32_t a, uint32_t b) {
-    auto key = std::minmax(a, b);
-    auto [it, fresh] = midpoint.try_emplace(key, static_cast<uint32_t>(out.positions.size()));
-    if (fresh) {
-      const Float3 p = in.positions[a], q = in.positions[b];
-      out.positions.push_back({(p.x + q.x) / 2, (p.y + q.y) / 2, (p.z + q.z) / 2});
-    }
-    return it->second;
-  };
-  out.face_offsets.assign(1, 0);
-  for (const auto& t : in.triangles) {
-    const uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
-    for (const std::array<uint32_t, 3> f :
-         {std::array<uint32_t, 3>{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}}) {
-      out.face_vertices.insert(out.face_vertices.end(), f.begin(), f.end());
-      out.face_offsets.push_back(static_cast<uint32_t>(out.face_vertices.size()));
-    }
-  }
-  triangulate_faces(out);
-  return out;
-}
-
-MeshData load(const std::filesystem::path& path) {
-  Expected<LoadedMesh> m = read_mesh(path);
-  if (!m) die(m.error().message);
-  return std::move(m->mesh);
-}
-
 const MeshData& bunny() {
-  static const MeshData mesh = load(kData / "bunny00.off");
+  static const MeshData mesh = bench::load_shared_mesh("bunny00.off");
   return mesh;
 }
 const MeshData& armadillo() {
-  static const MeshData mesh = subdivide(subdivide(load(kData / "armadillo.off")));
+  static const MeshData mesh =
+      bench::subdivide(bench::subdivide(bench::load_shared_mesh("armadillo.off")));
   return mesh;
 }
 const Image& earth() {

@@ -19,40 +19,11 @@
 #include "bake/embree_scene.h"
 #include "bake/parallel.h"
 #include "bake/render_preview.h"
+#include "bench/bench_meshes.h"
 #include "mesh_io/read_mesh.h"
 
 namespace texbake {
 namespace {
-
-// One round of 1-to-4 midpoint subdivision of mesh.triangles (positions
-// only): every edge gets its midpoint once, each triangle becomes four.
-MeshData subdivide(const MeshData& in) {
-  MeshData out;
-  out.positions = in.positions;
-  std::unordered_map<uint64_t, uint32_t> midpoint;
-  midpoint.reserve(in.triangles.size() * 2);
-  auto mid = [&](uint32_t a, uint32_t b) {
-    const uint64_t key = a < b ? (uint64_t{a} << 32 | b) : (uint64_t{b} << 32 | a);
-    auto [it, fresh] = midpoint.try_emplace(key, static_cast<uint32_t>(out.positions.size()));
-    if (fresh) {
-      const Float3 p = out.positions[a], q = out.positions[b];
-      out.positions.push_back({(p.x + q.x) / 2, (p.y + q.y) / 2, (p.z + q.z) / 2});
-    }
-    return it->second;
-  };
-  out.face_offsets.push_back(0);
-  for (const auto& t : in.triangles) {
-    const uint32_t ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
-    for (const std::array<uint32_t, 3>& n :
-         {std::array<uint32_t, 3>{t[0], ab, ca}, std::array<uint32_t, 3>{ab, t[1], bc},
-          std::array<uint32_t, 3>{ca, bc, t[2]}, std::array<uint32_t, 3>{ab, bc, ca}}) {
-      for (uint32_t v : n) out.face_vertices.push_back(v);
-      out.face_offsets.push_back(static_cast<uint32_t>(out.face_vertices.size()));
-    }
-  }
-  triangulate_faces(out);
-  return out;
-}
 
 struct Fixture {
   MeshData mesh;
@@ -62,12 +33,7 @@ struct Fixture {
 
 Fixture& fixture() {
   static Fixture* f = [] {
-    auto loaded = read_mesh(TEXBAKE_SHARED_DATA_DIR "/armadillo.off");
-    if (!loaded) {
-      std::fprintf(stderr, "%s\n", loaded.error().message.c_str());
-      std::exit(1);
-    }
-    MeshData mesh = subdivide(subdivide(loaded->mesh));
+    MeshData mesh = bench::armadillo_832k();
     auto scene = EmbreeScene::build(mesh, BuildQuality::kMedium);
     if (!scene) std::exit(1);
     RenderOptions o;

@@ -1,0 +1,29 @@
+// Meshes shared by the benchmarks: the data meshes of ../shared/data and the
+// armadillo subdivided twice (832k triangles), built once per process.
+#pragma once
+
+#include <string>
+
+#include "mesh_io/mesh_data.h"
+
+namespace texbake::bench {
+
+// Prints "texbake_bench: <what>" and exits 1 (a benchmark cannot go on
+// without its input).
+[[noreturn]] void die(const std::string& what);
+
+// Reads ../shared/data/<file> with read_mesh, or dies.
+MeshData load_shared_mesh(const std::string& file);
+
+// One round of 1-to-4 midpoint subdivision of mesh.triangles (positions only;
+// every edge's midpoint is shared by its two triangles), triangulated.
+MeshData subdivide(const MeshData& mesh);
+
+// ../shared/data/bunny00.off (75k triangles), loaded once.
+const MeshData& bunny();
+
+// ../shared/data/armadillo.off subdivided twice: 416,002 vertices, 832,000
+// triangles; built once.
+const MeshData& armadillo_832k();
+
+}  // namespace texbake::bench
