@@ -45,9 +45,11 @@ void add_atlas_flags(CLI::App& bake, AtlasFlags& flags) {
   bake.add_option("--size", flags.size,
                   "atlas target: width and height in texels (default 2048, 1..16384)")
       ->type_name("N");
-  bake.add_option("--padding", flags.padding,
-                  "atlas target: texels of dilation into the gutter, or 'inf' for push-pull over "
-                  "the whole background (default: 8 at 2048, scaled with --size, at least 1)")
+  bake.add_option(
+          "--padding", flags.padding,
+          "atlas target: texels of dilation into the gutter, or 'inf' for push-pull over "
+          "the whole background (default: 8 at 2048, scaled with --size, at least 1; an explicit "
+          "N is taken as is, 0 = no dilation)")
       ->type_name("N|inf");
   add_choice_option(
       bake, "--uv", flags.uv,

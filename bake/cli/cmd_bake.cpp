@@ -119,6 +119,17 @@ void add_keyword_or_color(CLI::App& cmd, const std::string& flag, KeywordOrColor
                                        : keywords[0] + "|" + keywords[1] + "|R,G,B[,A]");
 }
 
+// After the usage checks, an error from the work itself is the work failing
+// on this input (exit 1, SPEC section 5), whatever code the library gave it
+// (e.g. "zero total area" from UV generation); the message names the mesh.
+int report_work_error(const Error& error, const std::string& mesh) {
+  if (error.code != ErrorCode::kInvalidArgument && error.code != ErrorCode::kUnsupported) {
+    return report_error(error);
+  }
+  const bool named = error.message.find(mesh) != std::string::npos;
+  return report_error(ErrorCode::kParse, named ? error.message : mesh + ": " + error.message);
+}
+
 std::string lower_extension(const fs::path& path) {
   std::string ext = path.extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -276,7 +287,7 @@ int run_bake(const BakeCliOptions& o) {
     // ---- Atlas: UV layout, bake, pad, write (one call). ----
     Expected<AtlasJobReport> job =
         run_atlas_job(mesh->mesh, image->view(), proxy, o.atlas, atlas_opts, output, &progress);
-    if (!job) return report_error(job.error());
+    if (!job) return report_work_error(job.error(), o.mesh);
     for (const std::string& w : job->warnings) std::cerr << "texbake: warning: " << w << "\n";
     report.atlas_counts = job->counts;
     report.atlas_samples = atlas_opts.samples;
@@ -304,10 +315,10 @@ int run_bake(const BakeCliOptions& o) {
     // ---- Vertex: sample, free the image, fill, write. ----
     Expected<VertexBakeStage> sampled =
         bake_vertex_sample(mesh->mesh, image->view(), proxy, shading, &progress);
-    if (!sampled) return report_error(sampled.error());
+    if (!sampled) return report_work_error(sampled.error(), o.mesh);
     image = Image{};  // nothing reads the image any more: free it before the fill's peak
     Expected<VertexBakeResult> baked = bake_vertex_finish(mesh->mesh, std::move(sampled).value());
-    if (!baked) return report_error(baked.error());
+    if (!baked) return report_work_error(baked.error(), o.mesh);
     report.counts = baked->counts;
     report.timings.scene_build = baked->timings.scene_build;
     report.timings.bake = baked->timings.bake;

@@ -180,15 +180,22 @@ TEST_F(BakeCli, ObjWithVertexTargetHasColouredVertices) {
 }
 
 TEST_F(BakeCli, ThreadCountDoesNotChangeTheOutput) {
-  const fs::path one = dir / "one.ply", two = dir / "two.ply";
-  // A sphere around the grid: slanted rays, area filter, samples from many triangles.
+  // The bunny (37,706 vertices: dozens of work chunks, so two threads really
+  // split the work) inside a sphere projector: slanted rays, occluded vertices
+  // filled by the harmonic solve, area samples from many triangles.
+  const fs::path one = dir / "one.ply", two = dir / "two.ply", report = dir / "r.json";
   const std::string sphere =
-      quote(mesh.string()) + " --texture " + quote(image.string()) +
-      " --proxy sphere --center 0.5,0.5,-0.3 --radius 1 --pole 0,0,1 --equator 1,0,0 -q";
-  ASSERT_EQ(run(sphere + " --threads 1 -o " + quote(one.string())).exit_code, 0);
+      quote(TEXBAKE_SHARED_DATA_DIR "/bunny00.off") + " --texture " + quote(image.string()) +
+      " --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator 0,0,1 -q";
+  ASSERT_EQ(
+      run(sphere + " --threads 1 --report " + quote(report.string()) + " -o " + quote(one.string()))
+          .exit_code,
+      0);
   ASSERT_EQ(run(sphere + " --threads 2 -o " + quote(two.string())).exit_code, 0);
+  const nlohmann::json j = nlohmann::json::parse(slurp(report));
+  EXPECT_GT(j["counts"]["occluded"].get<int>(), 1000) << "the fill must take part";
   const std::string a = slurp(one), b = slurp(two);
-  EXPECT_GT(a.size(), 100u);
+  EXPECT_GT(a.size(), 37706u * 15);
   EXPECT_EQ(a, b);
 }
 
@@ -276,6 +283,23 @@ TEST_F(BakeCli, UsageErrorsExit2NamingTheFlagAndWriteNothing) {
 }
 
 // ---- Failed work: exit 1, the file named, nothing written. ----
+
+TEST_F(BakeCli, AtlasOfAMeshWithOnlyDegenerateTrianglesFailsWithExit1NamingTheMesh) {
+  // The mesh loads (degenerate triangles are not fatal, SPEC section 8), but
+  // there is nothing to lay out: the work fails on this file (exit 1), it is
+  // not a usage error.
+  const fs::path degenerate = dir / "degenerate.off";
+  std::ofstream(degenerate) << "OFF\n4 2 0\n0 0 0\n1 1 1\n2 2 2\n3 3 3\n3 0 1 2\n3 1 2 3\n";
+  const fs::path obj = dir / "deg.obj";
+  const CliRun r =
+      run(quote(degenerate.string()) + " --texture " + quote(image.string()) +
+          " --proxy sphere --center 0,0,0 --radius 1 --uv generate -q -o " + quote(obj.string()));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("texbake: error: " + degenerate.string()), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(obj));
+  EXPECT_FALSE(fs::exists(dir / "deg.png"));
+  EXPECT_FALSE(fs::exists(dir / "deg.mtl"));
+}
 
 TEST_F(BakeCli, BadInputsExit1NamingTheFileAndWriteNothing) {
   const fs::path nan_mesh = dir / "nan.off";
