@@ -9,6 +9,7 @@
 #include "bake/uv_generate.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -27,7 +28,13 @@ using uv_detail::FlattenStatus;
 
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 constexpr int kMaxAtlasSize = 16384;
-constexpr std::size_t kMaxSolveTriangles = 65536;
+// Pieces above this are halved before any solve. On the 832k-triangle
+// armadillo every piece of more than ~47k triangles failed the stretch check
+// after its solve (the solves thrown away were 1.5x the triangles kept), so a
+// lower cap skips those wasted solves without changing the atlas there.
+constexpr std::size_t kMaxSolveTriangles = 49152;
+// Split pieces at least this large have their halves processed in parallel.
+constexpr std::size_t kParallelSplitTriangles = 8192;
 
 struct Vec2 {
   double x = 0, y = 0;
@@ -268,10 +275,14 @@ struct FlatChart {
 };
 
 // Scratch shared by all chart tasks: each task touches only the entries of
-// its own chart's triangles (charts are disjoint), so no two threads write
-// the same element.
+// its own piece's triangles (pieces are disjoint), so no two threads write
+// the same element. Halves of a split piece are processed in parallel, so a
+// task may read the stamp of a neighbouring triangle that another task is
+// writing: stamps are accessed atomically (relaxed) and every marking takes
+// a fresh value from `next_stamp`, so a stamp never matches another task's.
 struct Scratch {
-  std::vector<uint32_t> stamp;   // per triangle: membership of the current piece
+  std::vector<uint32_t> stamp;  // per triangle: membership of the current piece
+  std::atomic<uint32_t> next_stamp{0};
   std::vector<uint32_t> parent;  // per corner: union-find welding corners into vertices
   std::vector<uint32_t> local;   // per corner root: local vertex index
 };
@@ -285,29 +296,36 @@ class ChartCutter {
   // flat charts appended to out.
   void run(uint32_t c, std::vector<uint32_t> tris, std::vector<FlatChart>& out) {
     chart_id_ = c;
-    stamp_ = 0;
     process(std::move(tris), out);
   }
 
  private:
-  bool in_piece(uint32_t t) const { return chart_[t] == chart_id_ && s_.stamp[t] == stamp_; }
+  uint32_t stamp_of(uint32_t t) const {
+    return std::atomic_ref<uint32_t>(s_.stamp[t]).load(std::memory_order_relaxed);
+  }
+  void set_stamp(uint32_t t, uint32_t v) {
+    std::atomic_ref<uint32_t>(s_.stamp[t]).store(v, std::memory_order_relaxed);
+  }
+  uint32_t fresh_stamp() { return stamp_ = s_.next_stamp.fetch_add(1) + 1; }
+
+  bool in_piece(uint32_t t) const { return chart_[t] == chart_id_ && stamp_of(t) == stamp_; }
 
   void mark(const std::vector<uint32_t>& tris) {
-    ++stamp_;
-    for (uint32_t t : tris) s_.stamp[t] = stamp_;
+    fresh_stamp();
+    for (uint32_t t : tris) set_stamp(t, stamp_);
   }
 
   // Connected components of tris over in-piece adjacency.
   std::vector<std::vector<uint32_t>> components(const std::vector<uint32_t>& tris) {
     mark(tris);
     const uint32_t piece = stamp_;
-    const uint32_t seen = ++stamp_;
+    const uint32_t seen = fresh_stamp();
     std::vector<std::vector<uint32_t>> comps;
     std::vector<uint32_t> stack;
     for (uint32_t seed : tris) {
-      if (s_.stamp[seed] != piece) continue;
+      if (stamp_of(seed) != piece) continue;
       comps.emplace_back();
-      s_.stamp[seed] = seen;
+      set_stamp(seed, seen);
       stack.push_back(seed);
       while (!stack.empty()) {
         const uint32_t t = stack.back();
@@ -315,8 +333,8 @@ class ChartCutter {
         comps.back().push_back(t);
         for (int k = 0; k < 3; ++k) {
           const uint32_t a = g_.adj[3 * t + k];
-          if (a == kNone || chart_[a / 3] != chart_id_ || s_.stamp[a / 3] != piece) continue;
-          s_.stamp[a / 3] = seen;
+          if (a == kNone || chart_[a / 3] != chart_id_ || stamp_of(a / 3) != piece) continue;
+          set_stamp(a / 3, seen);
           stack.push_back(a / 3);
         }
       }
@@ -396,8 +414,7 @@ class ChartCutter {
     // (welding and cutting them first would be thrown away too).
     if (tris.size() > kMaxSolveTriangles) {
       auto [a, b] = split(tris);
-      process(std::move(a), out);
-      process(std::move(b), out);
+      process_halves(std::move(a), std::move(b), out);
       return;
     }
     std::vector<std::pair<uint32_t, uint32_t>> border;
@@ -433,8 +450,32 @@ class ChartCutter {
       return;
     }
     auto [a, b] = split(tris);
-    process(std::move(a), out);
-    process(std::move(b), out);
+    process_halves(std::move(a), std::move(b), out);
+  }
+
+  // The two halves of a split piece are disjoint: large ones are processed
+  // in parallel (a chart of 200k triangles would otherwise be one serial task
+  // that ends the chart loop alone), each into its own list, appended in
+  // order, so the result does not depend on the thread count.
+  void process_halves(std::vector<uint32_t> a, std::vector<uint32_t> b,
+                      std::vector<FlatChart>& out) {
+    if (a.size() + b.size() < kParallelSplitTriangles) {
+      process(std::move(a), out);
+      process(std::move(b), out);
+      return;
+    }
+    std::vector<FlatChart> half[2];
+    std::vector<uint32_t>* tris[2] = {&a, &b};
+    parallel_for_chunks(2, 1, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t i = lo; i < hi; ++i) {
+        ChartCutter sub(g_, chart_, s_, max_stretch_);
+        sub.chart_id_ = chart_id_;
+        sub.process(std::move(*tris[i]), half[i]);
+      }
+    });
+    for (auto& h : half) {
+      for (FlatChart& fc : h) out.push_back(std::move(fc));
+    }
   }
 
   // Labels border vertices with their loop (kNone inside); returns the loop

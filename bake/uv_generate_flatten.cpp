@@ -13,6 +13,7 @@
 // SimplicialLDLT. The disk check that CGAL's Surface_mesh did is done by the
 // caller (Euler characteristic and border loops of the welded chart), so this
 // translation unit needs no CGAL any more.
+#include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <cmath>
@@ -28,12 +29,41 @@ FlattenStatus flatten_lscm(const ChartMesh& chart, std::vector<double>& uv) {
   }
   // Unknowns interleaved (u_i, v_i); the two pinned vertices are eliminated
   // and their fixed values moved to the right-hand side.
-  std::vector<int> index(2 * n);
-  int m = 0;
+  //
+  // Fill-reducing order: AMD on the vertex graph (n - 2 nodes), each vertex's
+  // (u, v) pair then kept adjacent. The Hessian's pattern is exactly the
+  // vertex graph with 2x2 blocks, so this is the same kind of order as AMD on
+  // the full 2(n - 2) system (which Eigen's default would compute) at about a
+  // quarter of the ordering work; the factorisation then uses it as given.
+  std::vector<int> vid(n, -1);
+  int nu = 0;
   for (std::size_t v = 0; v < n; ++v) {
-    const bool pinned = v == chart.fixed0 || v == chart.fixed1;
-    index[2 * v] = pinned ? -1 : m++;
-    index[2 * v + 1] = pinned ? -1 : m++;
+    if (v != chart.fixed0 && v != chart.fixed1) vid[v] = nu++;
+  }
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> perm;
+  {
+    std::vector<Eigen::Triplet<double>> pattern;
+    pattern.reserve(chart.faces.size() * 3 + nu);
+    for (int v = 0; v < nu; ++v) pattern.emplace_back(v, v, 1.0);
+    for (const auto& f : chart.faces) {
+      for (int k = 0; k < 3; ++k) {
+        const int a = vid[f[k]], b = vid[f[(k + 1) % 3]];
+        if (a >= 0 && b >= 0) pattern.emplace_back(std::max(a, b), std::min(a, b), 1.0);
+      }
+    }
+    Eigen::SparseMatrix<double> s(nu, nu);
+    s.setFromTriplets(pattern.begin(), pattern.end());
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> pinv;
+    Eigen::AMDOrdering<int> amd;
+    amd(s.selfadjointView<Eigen::Lower>(), pinv);
+    perm = pinv.inverse();
+  }
+  std::vector<int> index(2 * n);
+  const int m = 2 * nu;
+  for (std::size_t v = 0; v < n; ++v) {
+    const int r = vid[v] < 0 ? -1 : perm.indices()[vid[v]];
+    index[2 * v] = r < 0 ? -1 : 2 * r;
+    index[2 * v + 1] = r < 0 ? -1 : 2 * r + 1;
   }
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(chart.faces.size() * 3 * 6 + chart.border.size() * 2);
@@ -91,7 +121,8 @@ FlattenStatus flatten_lscm(const ChartMesh& chart, std::vector<double>& uv) {
   Eigen::SparseMatrix<double> h(m, m);
   h.setFromTriplets(triplets.begin(), triplets.end());
   triplets = {};
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(h);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::NaturalOrdering<int>>
+      ldlt(h);
   if (ldlt.info() != Eigen::Success) return FlattenStatus::kSolveFailed;
   const Eigen::VectorXd x = ldlt.solve(rhs);
   if (ldlt.info() != Eigen::Success) return FlattenStatus::kSolveFailed;
