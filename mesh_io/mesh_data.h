@@ -55,7 +55,7 @@ struct MeshData {
 struct MeshIssues {
   std::size_t degenerate_triangles = 0;  // zero-area triangles skipped
   std::size_t unreferenced_vertices = 0;
-  std::size_t non_manifold_edges = 0;    // edges shared by more than two faces
+  std::size_t non_manifold_edges = 0;  // edges shared by more than two faces
 };
 
 }  // namespace texbake

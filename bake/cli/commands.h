@@ -5,10 +5,9 @@
 // "texbake: error: ..." on stderr.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
-
-#include <CLI/CLI.hpp>
 
 #include "mapping/error.h"
 
