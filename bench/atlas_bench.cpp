@@ -42,6 +42,8 @@ namespace texbake {
 namespace {
 
 using bench::die;
+using bench::earth;
+using bench::sphere_around;
 
 namespace fs = std::filesystem;
 const fs::path kData = TEXBAKE_SHARED_DATA_DIR;
@@ -59,28 +61,6 @@ const MeshData& source_mesh(int which) {
 }
 const char* mesh_name(int which) {
   return which == 0 ? "bunny" : "armadillo832k";
-}
-
-const Image& earth() {
-  static const Image image = [] {
-    Expected<Image> img = read_image(kData / "earth.jpg");
-    if (!img) die(img.error().message);
-    return std::move(img).value();
-  }();
-  return image;
-}
-
-Proxy sphere_around(const MeshData& mesh) {
-  Float3 lo = mesh.positions[0], hi = lo;
-  for (const Float3& p : mesh.positions) {
-    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-  }
-  const Vec3 c{(lo.x + hi.x) / 2.0, (lo.y + hi.y) / 2.0, (lo.z + hi.z) / 2.0};
-  const double r = length(Vec3{hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) / 2;
-  Expected<Proxy> p = make_proxy(SphereParams{c, r, {0, 1, 0}, Vec3{0, 0, 1}});
-  if (!p) die(p.error().message);
-  return *p;
 }
 
 // Process CPU seconds (user + system, all threads): on a loaded machine a

@@ -1,5 +1,6 @@
 #include "bench/bench_meshes.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
@@ -57,6 +58,28 @@ const MeshData& bunny() {
 const MeshData& armadillo_832k() {
   static const MeshData mesh = subdivide(subdivide(load_shared_mesh("armadillo.off")));
   return mesh;
+}
+
+const Image& earth() {
+  static const Image image = [] {
+    Expected<Image> img = read_image(std::string(TEXBAKE_SHARED_DATA_DIR) + "/earth.jpg");
+    if (!img) die(img.error().message);
+    return std::move(img).value();
+  }();
+  return image;
+}
+
+Proxy sphere_around(const MeshData& mesh) {
+  Float3 lo = mesh.positions[0], hi = lo;
+  for (const Float3& p : mesh.positions) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  const Vec3 c{(lo.x + hi.x) / 2.0, (lo.y + hi.y) / 2.0, (lo.z + hi.z) / 2.0};
+  const double r = length(Vec3{hi.x - lo.x, hi.y - lo.y, hi.z - lo.z}) / 2;
+  Expected<Proxy> p = make_proxy(SphereParams{c, r, {0, 1, 0}, Vec3{0, 0, 1}});
+  if (!p) die(p.error().message);
+  return *p;
 }
 
 }  // namespace texbake::bench

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "mapping/proxy.h"
+#include "mesh_io/image_io.h"
 #include "mesh_io/mesh_data.h"
 
 namespace texbake::bench {
@@ -25,5 +27,12 @@ const MeshData& bunny();
 // ../shared/data/armadillo.off subdivided twice: 416,002 vertices, 832,000
 // triangles; built once.
 const MeshData& armadillo_832k();
+
+// ../shared/data/earth.jpg, loaded once.
+const Image& earth();
+
+// A sphere around the mesh's bounding box (what `fit` would roughly give),
+// pole +Y, equator +Z.
+Proxy sphere_around(const MeshData& mesh);
 
 }  // namespace texbake::bench
