@@ -32,12 +32,7 @@ constexpr double kPi = 3.14159265358979323846;
 std::string q(const fs::path& p) {
   return testing_cli::shell_quote(p.string());
 }
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing_cli::slurp;
 
 // The test image's colour at (u, v): periodic in u so the sphere's seam
 // does not matter, a ramp in v.

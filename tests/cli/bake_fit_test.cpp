@@ -29,12 +29,7 @@ const fs::path kData = TEXBAKE_SHARED_DATA_DIR;
 std::string q(const fs::path& p) {
   return testing_cli::shell_quote(p.string());
 }
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing_cli::slurp;
 RunResult run(const std::string& args) {
   return testing_cli::run_texbake(args);
 }

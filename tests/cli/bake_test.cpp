@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mesh_io/image_io.h"
+#include "run_texbake.h"
 
 namespace {
 
@@ -136,10 +137,7 @@ std::vector<PlyVertex> read_ascii_ply(const fs::path& path) {
   return v;
 }
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using texbake::testing_cli::slurp;
 
 TEST_F(BakeCli, BakesTheKnownBytesIntoAsciiPly) {
   const CliRun r = run(base(out) + " --ascii --filter bilinear -q");

@@ -22,16 +22,14 @@
 #include <vector>
 
 #include "mesh_io/image_io.h"
+#include "run_texbake.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using texbake::testing_cli::slurp;
 
 std::vector<std::string> temporaries(const fs::path& dir) {
   std::vector<std::string> out;

@@ -22,12 +22,7 @@ namespace fs = std::filesystem;
 
 const fs::path kData = TEXBAKE_SHARED_DATA_DIR;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing_cli::slurp;
 
 // A fresh folder per test, removed afterwards.
 class FitCli : public ::testing::Test {

@@ -25,6 +25,14 @@ inline std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
+// The whole content of a file, bytes as they are ("" if it cannot be read).
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 inline RunResult run_texbake(const std::string& args_quoted) {
   static int counter = 0;
   const std::filesystem::path err_file =
