@@ -28,10 +28,10 @@
 #include <map>
 #include <string>
 
-#include "bake/bake_atlas.h"
-#include "bake/bake_vertex.h"
-#include "bake/dilate.h"
-#include "bake/uv_generate.h"
+#include "bake/atlas/bake_atlas.h"
+#include "bake/atlas/dilate.h"
+#include "bake/uv/uv_generate.h"
+#include "bake/vertex/bake_vertex.h"
 #include "bench/bench_meshes.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
@@ -46,7 +46,7 @@ using bench::earth;
 using bench::sphere_around;
 
 namespace fs = std::filesystem;
-const fs::path kData = TEXBAKE_SHARED_DATA_DIR;
+const fs::path kData = TEXBAKE_DATA_DIR;
 
 fs::path temp_dir() {
   const char* t = std::getenv("TMPDIR");

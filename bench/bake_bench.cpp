@@ -22,10 +22,10 @@
 #include <optional>
 #include <vector>
 
-#include "bake/bake_vertex.h"
-#include "bake/embree_scene.h"
-#include "bake/parallel.h"
-#include "bake/visibility.h"
+#include "bake/trace/embree_scene.h"
+#include "bake/trace/visibility.h"
+#include "bake/util/parallel.h"
+#include "bake/vertex/bake_vertex.h"
 #include "bench/bench_meshes.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
@@ -38,7 +38,7 @@ using bench::die;
 using bench::earth;
 using bench::sphere_around;
 
-const std::filesystem::path kData = TEXBAKE_SHARED_DATA_DIR;
+const std::filesystem::path kData = TEXBAKE_DATA_DIR;
 
 const MeshData& bunny() {
   static const MeshData mesh = bench::load_shared_mesh("bunny00.off");

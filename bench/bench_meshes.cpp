@@ -16,7 +16,7 @@ void die(const std::string& what) {
 }
 
 MeshData load_shared_mesh(const std::string& file) {
-  Expected<LoadedMesh> loaded = read_mesh(std::string(TEXBAKE_SHARED_DATA_DIR) + "/" + file);
+  Expected<LoadedMesh> loaded = read_mesh(std::string(TEXBAKE_DATA_DIR) + "/" + file);
   if (!loaded) die(loaded.error().message);
   return std::move(loaded->mesh);
 }
@@ -62,7 +62,7 @@ const MeshData& armadillo_832k() {
 
 const Image& earth() {
   static const Image image = [] {
-    Expected<Image> img = read_image(std::string(TEXBAKE_SHARED_DATA_DIR) + "/earth.jpg");
+    Expected<Image> img = read_image(std::string(TEXBAKE_DATA_DIR) + "/earth.jpg");
     if (!img) die(img.error().message);
     return std::move(img).value();
   }();

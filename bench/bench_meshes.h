@@ -1,4 +1,4 @@
-// Meshes shared by the benchmarks: the data meshes of ../shared/data and the
+// Meshes shared by the benchmarks: the data meshes of data and the
 // armadillo subdivided twice (832k triangles), built once per process.
 #pragma once
 
@@ -14,21 +14,21 @@ namespace texbake::bench {
 // without its input).
 [[noreturn]] void die(const std::string& what);
 
-// Reads ../shared/data/<file> with read_mesh, or dies.
+// Reads data/<file> with read_mesh, or dies.
 MeshData load_shared_mesh(const std::string& file);
 
 // One round of 1-to-4 midpoint subdivision of mesh.triangles (positions only;
 // every edge's midpoint is shared by its two triangles), triangulated.
 MeshData subdivide(const MeshData& mesh);
 
-// ../shared/data/bunny00.off (75k triangles), loaded once.
+// data/bunny00.off (75k triangles), loaded once.
 const MeshData& bunny();
 
-// ../shared/data/armadillo.off subdivided twice: 416,002 vertices, 832,000
+// data/armadillo.off subdivided twice: 416,002 vertices, 832,000
 // triangles; built once.
 const MeshData& armadillo_832k();
 
-// ../shared/data/earth.jpg, loaded once.
+// data/earth.jpg, loaded once.
 const Image& earth();
 
 // A sphere around the mesh's bounding box (what `fit` would roughly give),

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/fit_proxy.h"
+#include "bake/fit/fit_proxy.h"
 #include "bench/bench_meshes.h"
 
 namespace texbake {

@@ -16,9 +16,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "bake/embree_scene.h"
-#include "bake/parallel.h"
-#include "bake/render_preview.h"
+#include "bake/render/render_preview.h"
+#include "bake/trace/embree_scene.h"
+#include "bake/util/parallel.h"
 #include "bench/bench_meshes.h"
 #include "mesh_io/read_mesh.h"
 

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "bake/uv_generate.h"
+#include "bake/uv/uv_generate.h"
 #include "bench/bench_meshes.h"
 
 namespace {

@@ -40,6 +40,7 @@
 #include <string_view>
 
 #include "mesh_io/byte_order.h"
+#include "mesh_io/file_name.h"
 
 namespace texbake {
 namespace fs = std::filesystem;
@@ -66,12 +67,6 @@ Error parse_error(const fs::path& path, const std::string& what) {
 }
 Error io_error(const fs::path& path, const std::string& what) {
   return make_error(ErrorCode::kIo, path.string() + ": " + what);
-}
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
 }
 
 // Whole-file read: the PLY parser and the pre-scans work on memory.

@@ -14,6 +14,7 @@
 
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/byte_order.h"
+#include "mesh_io/file_name.h"
 
 namespace texbake {
 namespace fs = std::filesystem;
@@ -25,12 +26,6 @@ uint8_t colour_to_byte(float c) {
 }
 
 namespace {
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
 
 Status write_buffer(const fs::path& temp, const fs::path& target, const std::string& data) {
   std::FILE* f = std::fopen(temp.c_str(), "wb");

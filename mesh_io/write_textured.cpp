@@ -16,19 +16,13 @@
 
 #include "mapping/sample.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/file_name.h"
 #include "mesh_io/write_mesh.h"
 
 namespace texbake {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lower_extension(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 bool has_corner_uvs(const MeshData& mesh) {
   return mesh.has_uvs() && mesh.corner_uv.size() == mesh.face_vertices.size();

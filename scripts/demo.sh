@@ -24,7 +24,7 @@ demo_bake_earth_bunny() {
   # The Stanford bunny (y up, about 1 unit across, centred) inside a sphere
   # projector: the Earth map, north along +y, lands on it per vertex, with
   # occluded vertices (under the ears, between the legs) filled smoothly.
-  local data="$TEXBAKE_ROOT/../shared/data"
+  local data="$TEXBAKE_ROOT/data"
   local out="$TEXBAKE_ROOT/out"
   mkdir -p "$out"
   local args=(bake "$data/bunny00.off" --texture "$data/earth.jpg"
@@ -41,7 +41,7 @@ demo_bake_earth_bunny() {
 demo_bake_atlas_bunny() {
   # The same projection baked into a texture atlas: the bunny has no UVs, so
   # --uv generate lays out new charts; OBJ + MTL + PNG, viewable anywhere.
-  local data="$TEXBAKE_ROOT/../shared/data"
+  local data="$TEXBAKE_ROOT/data"
   local out="$TEXBAKE_ROOT/out"
   mkdir -p "$out"
   local args=(bake "$data/bunny00.off" --texture "$data/earth.jpg"

@@ -7,29 +7,19 @@
 #include <utility>
 #include <vector>
 
-#include "bake/atlas_raster.h"
+#include "bake/atlas/atlas_raster.h"
+#include "bake/atlas/dilate.h"
 #include "bake/cli/choice_option.h"
-#include "bake/dilate.h"
-#include "bake/uv_generate.h"
-#include "bake/uv_proxy.h"
+#include "bake/util/timing.h"
+#include "bake/uv/uv_generate.h"
+#include "bake/uv/uv_proxy.h"
+#include "mesh_io/file_name.h"
 #include "mesh_io/write_textured.h"
 
 namespace texbake::cli {
 namespace fs = std::filesystem;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-std::string lower_extension(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // Charts need at least two empty texels between them: each chart's
 // conservative coverage reaches one texel further than the packer's (texel

@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "bake/bake_atlas.h"
-#include "bake/options.h"
-#include "bake/progress.h"
+#include "bake/atlas/bake_atlas.h"
+#include "bake/shade/options.h"
+#include "bake/util/progress.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/proxy.h"

@@ -20,17 +20,19 @@
 #include <utility>
 #include <vector>
 
-#include "bake/bake_vertex.h"
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
 #include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
-#include "bake/options.h"
-#include "bake/parallel.h"
-#include "bake/progress.h"
-#include "bake/report.h"
+#include "bake/cli/report.h"
+#include "bake/shade/options.h"
+#include "bake/util/parallel.h"
+#include "bake/util/progress.h"
+#include "bake/util/timing.h"
+#include "bake/vertex/bake_vertex.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/file_name.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
 #include "mesh_io/write_mesh.h"
@@ -128,16 +130,6 @@ int report_work_error(const Error& error, const std::string& mesh) {
   }
   const bool named = error.message.find(mesh) != std::string::npos;
   return report_error(ErrorCode::kParse, named ? error.message : mesh + ": " + error.message);
-}
-
-std::string lower_extension(const fs::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 // "--a, --b" of the flags in `names` that were given on the command line.

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "bake/cli/geometry_flags.h"
-#include "bake/fit_proxy.h"
+#include "bake/fit/fit_proxy.h"
 #include "mapping/error.h"
 #include "mapping/proxy.h"
 #include "mesh_io/mesh_data.h"

@@ -1,5 +1,5 @@
 // The demo's scene for image tests (golden images, bake fidelity): the
-// Stanford bunny (../shared/data/bunny00.off, y up, about 1 unit across,
+// Stanford bunny (data/bunny00.off, y up, about 1 unit across,
 // centred at the origin) inside a unit sphere projector carrying the Earth
 // map (earth.jpg, north at the top) with its pole along +y, like
 // scripts/demo.sh. Everything is loaded once per test binary.
@@ -11,11 +11,11 @@
 #include <filesystem>
 #include <string>
 
-#include "bake/bake_atlas.h"
-#include "bake/dilate.h"
-#include "bake/embree_scene.h"
-#include "bake/render_preview.h"
-#include "bake/uv_generate.h"
+#include "bake/atlas/bake_atlas.h"
+#include "bake/atlas/dilate.h"
+#include "bake/render/render_preview.h"
+#include "bake/trace/embree_scene.h"
+#include "bake/uv/uv_generate.h"
 #include "mapping/proxy.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
@@ -23,7 +23,7 @@
 namespace texbake::test {
 
 inline std::filesystem::path shared_data(const std::string& name) {
-  return std::filesystem::path(TEXBAKE_SHARED_DATA_DIR) / name;
+  return std::filesystem::path(TEXBAKE_DATA_DIR) / name;
 }
 
 struct BunnyEarth {

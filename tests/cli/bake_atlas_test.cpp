@@ -26,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing_cli::RunResult;
 
-const fs::path kData = TEXBAKE_SHARED_DATA_DIR;
+const fs::path kData = TEXBAKE_DATA_DIR;
 constexpr double kPi = 3.14159265358979323846;
 
 std::string q(const fs::path& p) {

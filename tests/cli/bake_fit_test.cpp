@@ -24,7 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using testing_cli::RunResult;
 
-const fs::path kData = TEXBAKE_SHARED_DATA_DIR;
+const fs::path kData = TEXBAKE_DATA_DIR;
 
 std::string q(const fs::path& p) {
   return testing_cli::shell_quote(p.string());

@@ -183,7 +183,7 @@ TEST_F(BakeCli, ThreadCountDoesNotChangeTheOutput) {
   // filled by the harmonic solve, area samples from many triangles.
   const fs::path one = dir / "one.ply", two = dir / "two.ply", report = dir / "r.json";
   const std::string sphere =
-      quote(TEXBAKE_SHARED_DATA_DIR "/bunny00.off") + " --texture " + quote(image.string()) +
+      quote(TEXBAKE_DATA_DIR "/bunny00.off") + " --texture " + quote(image.string()) +
       " --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator 0,0,1 -q";
   ASSERT_EQ(
       run(sphere + " --threads 1 --report " + quote(report.string()) + " -o " + quote(one.string()))

@@ -20,7 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kData = TEXBAKE_SHARED_DATA_DIR;
+const fs::path kData = TEXBAKE_DATA_DIR;
 
 using testing_cli::slurp;
 

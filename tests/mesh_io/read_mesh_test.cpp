@@ -194,17 +194,17 @@ TEST_F(ReadMesh, StlAsciiAndBinaryMergeCorners) {
   EXPECT_EQ(b.mesh.triangles.size(), 2u);
 }
 
-// Shared data: counts from /work/shared/data/README.md.
-TEST(ReadMeshSharedData, BunnyCountsMatchTheReadme) {
-  Expected<LoadedMesh> m = read_mesh(fs::path(TEXBAKE_SHARED_DATA_DIR) / "bunny00.off");
+// Shared data: counts from data/README.md.
+TEST(ReadMeshData, BunnyCountsMatchTheReadme) {
+  Expected<LoadedMesh> m = read_mesh(fs::path(TEXBAKE_DATA_DIR) / "bunny00.off");
   ASSERT_TRUE(m.has_value()) << m.error().message;
   EXPECT_EQ(m->mesh.vertex_count(), 37706u);
   EXPECT_EQ(m->mesh.face_count(), 75408u);
   EXPECT_EQ(m->mesh.triangles.size() + m->issues.degenerate_triangles, 75408u);
 }
 
-TEST(ReadMeshSharedData, SuzanneQuadsWithUvs) {
-  const fs::path path = fs::path(TEXBAKE_SHARED_DATA_DIR) / "suzanne_uv.obj";
+TEST(ReadMeshData, SuzanneQuadsWithUvs) {
+  const fs::path path = fs::path(TEXBAKE_DATA_DIR) / "suzanne_uv.obj";
   // Count faces and expected triangles independently from the text.
   std::istringstream text(test::read_bytes(path));
   std::string line;

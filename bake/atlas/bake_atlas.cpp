@@ -1,0 +1,423 @@
+#include "bake/atlas/bake_atlas.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "bake/atlas/atlas_raster.h"
+#include "bake/atlas/dilate.h"
+#include "bake/trace/embree_scene.h"
+#include "bake/trace/visibility.h"
+#include "bake/util/parallel.h"
+#include "bake/util/timing.h"
+#include "bake/vertex/bake_vertex.h"
+#include "mapping/sample.h"
+
+namespace texbake {
+namespace {
+
+// Covered texels per sample batch: large enough to amortise a ray batch,
+// small enough that the batch's buffers stay in cache.
+constexpr std::size_t kTexelBatch = 1024;
+
+struct SampleContext {
+  const MeshData* mesh = nullptr;
+  ImageView image;  // linear copy with shading.linear
+  WrapMode wrap_u = WrapMode::kClamp, wrap_v = WrapMode::kClamp;
+  bool no_outside = false;
+  bool outside_constant = false;
+  bool linear = false;
+  Rgba outside_color{};   // working encoding
+  Rgba occluded_color{};  // working encoding
+  OccludedMode occluded = OccludedMode::kFill;
+  const EmbreeScene* scene = nullptr;
+  double ray_offset = 0;
+  // Per vertex, working encoding: the fill, when computed before the pass
+  // (null: texels that need it are deferred, see Deferred).
+  const std::vector<Rgba>* fill_colors = nullptr;
+  float* atlas = nullptr;    // size * size * 4
+  uint8_t* baked = nullptr;  // size * size
+};
+
+struct ChunkCounts {
+  std::size_t occluded = 0, undefined = 0, outside = 0;
+};
+
+// Texels with samples to fill when the fill was not computed up front: their
+// coloured sum so far and the fill samples' (triangle, b1, b2), finished after
+// the pass (finish_deferred).
+struct Deferred {
+  struct Texel {
+    uint32_t texel;
+    std::array<double, 4> acc;
+    uint32_t first, count;  // range in samples
+  };
+  struct Sample {
+    uint32_t triangle;
+    float b1, b2;
+  };
+  std::vector<Texel> texels;
+  std::vector<Sample> samples;
+};
+
+// Per-thread buffers, reused across bands and batches: the hot loop does not
+// allocate once they have grown.
+struct Worker {
+  AtlasBandScratch scratch;
+  AtlasRaster band;
+  VisibilityBatch batch;
+  std::vector<MapResult> maps;
+  std::vector<uint8_t> visible;
+  ChunkCounts counts;
+  Deferred deferred;
+};
+
+// acc += the fill colour interpolated at the sample (barycentric over its
+// triangle's vertices).
+inline void add_fill(const MeshData& mesh, const std::vector<Rgba>& vc, uint32_t triangle,
+                     double b1, double b2, std::array<double, 4>& acc) {
+  const auto& tri = mesh.triangles[triangle];
+  const double b0 = 1 - b1 - b2;
+  for (int ch = 0; ch < 4; ++ch) {
+    acc[ch] += b0 * vc[tri[0]][ch] + b1 * vc[tri[1]][ch] + b2 * vc[tri[2]][ch];
+  }
+}
+
+// The texel mean into the atlas (back to sRGB when working in linear).
+inline void store_texel(const SampleContext& ctx, uint32_t t, const std::array<double, 4>& acc,
+                        std::size_t spt) {
+  float* px = ctx.atlas + static_cast<std::size_t>(t) * 4;
+  for (int ch = 0; ch < 4; ++ch) {
+    float v = static_cast<float>(acc[ch] / static_cast<double>(spt));
+    if (ctx.linear && ch < 3) v = linear_to_srgb(v);
+    px[ch] = v;
+  }
+  ctx.baked[t] = 1;
+}
+
+Vec3 sample_point(const MeshData& mesh, uint32_t t, float b1, float b2) {
+  const auto& tri = mesh.triangles[t];
+  const Float3 a = mesh.positions[tri[0]], b = mesh.positions[tri[1]], c = mesh.positions[tri[2]];
+  const double w0 = 1.0 - b1 - b2;
+  return {w0 * a.x + b1 * b.x + b2 * c.x, w0 * a.y + b1 * b.y + b2 * c.y,
+          w0 * a.z + b1 * b.z + b2 * c.z};
+}
+
+// Texels [begin, end) of w.band: maps, traces and samples their samples and
+// stores each texel's mean in the atlas. A texel's sum is the coloured
+// samples in sample order, then the filled ones in sample order (double).
+template <class P>
+void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_t begin,
+                 std::size_t end) {
+  const AtlasRaster& r = w.band;
+  const std::size_t spt = r.samples_per_texel;
+  const std::size_t s0 = begin * spt, s1 = end * spt;
+  w.maps.resize(s1 - s0);
+  w.batch.clear();
+  for (std::size_t s = s0; s < s1; ++s) {
+    const Vec3 p = sample_point(*ctx.mesh, r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]);
+    MapResult& m = w.maps[s - s0];
+    m = proxy.inverse_map(p);
+    if (ctx.scene) {
+      // Undefined samples get a dummy ray (their result is ignored) so that
+      // batch index == sample index.
+      w.batch.add(p, m.status == MapStatus::kUndefined ? Vec3{0, 0, 1} : m.to_projector);
+    }
+  }
+  w.visible.assign(s1 - s0, 1);
+  if (ctx.scene) w.batch.trace(*ctx.scene, ctx.ray_offset, w.visible.data());
+
+  ChunkCounts& counts = w.counts;
+  for (std::size_t k = begin; k < end; ++k) {
+    std::array<double, 4> acc{0, 0, 0, 0};
+    bool any_fill = false;
+    for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
+      const MapResult& m = w.maps[s - s0];
+      const bool visible = w.visible[s - s0] != 0;
+      Rgba c;
+      if (m.status == MapStatus::kUndefined) {
+        ++counts.undefined;
+        if (ctx.occluded != OccludedMode::kColor) {
+          any_fill = true;
+          continue;
+        }
+        c = ctx.occluded_color;
+      } else if (!visible && ctx.occluded != OccludedMode::kProject) {
+        ++counts.occluded;
+        if (ctx.occluded != OccludedMode::kColor) {
+          any_fill = true;
+          continue;
+        }
+        c = ctx.occluded_color;
+      } else {
+        if (!visible) ++counts.occluded;
+        if (m.status == MapStatus::kOutside && !ctx.no_outside) {
+          ++counts.outside;
+          c = ctx.outside_constant ? ctx.outside_color
+                                   : sample_bilinear(ctx.image, m.uv, ctx.wrap_u, ctx.wrap_v);
+        } else {
+          c = sample_bilinear(ctx.image, m.uv, ctx.wrap_u, ctx.wrap_v);
+        }
+      }
+      for (int ch = 0; ch < 4; ++ch) acc[ch] += c[ch];
+    }
+    const uint32_t t = r.texels[k];
+    if (!any_fill) {
+      store_texel(ctx, t, acc, spt);
+      continue;
+    }
+    // Occluded / undefined samples under --occluded fill (kProject fills
+    // only the undefined ones): the per-vertex inpainting, interpolated over
+    // the sample's triangle, added after the coloured samples.
+    Deferred::Texel* later = nullptr;
+    if (!ctx.fill_colors) {
+      w.deferred.texels.push_back({t, acc, static_cast<uint32_t>(w.deferred.samples.size()), 0});
+      later = &w.deferred.texels.back();
+    }
+    for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
+      const MapResult& m = w.maps[s - s0];
+      const bool fill = m.status == MapStatus::kUndefined ||
+                        (!w.visible[s - s0] && ctx.occluded == OccludedMode::kFill);
+      if (!fill) continue;
+      if (later) {
+        w.deferred.samples.push_back({r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]});
+        ++later->count;
+      } else {
+        add_fill(*ctx.mesh, *ctx.fill_colors, r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s],
+                 acc);
+      }
+    }
+    if (!later) store_texel(ctx, t, acc, spt);
+  }
+}
+
+int64_t nanoseconds(Clock::duration d) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(d).count();
+}
+
+}  // namespace
+
+Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& image,
+                                     const Proxy& proxy, const AtlasBakeOptions& options,
+                                     Progress* progress) {
+  if (options.padding < 0 && options.padding != kPaddingDefault &&
+      options.padding != kPaddingInfinite) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--padding " + std::to_string(options.padding) + " is negative");
+  }
+  const VertexBakeOptions& sh = options.shading;
+  AtlasBakeResult result;
+
+  // 1. Rasterise: the triangles binned into bands of rows. Each band is
+  // rasterised and baked in one go below, so the samples of the whole atlas
+  // (16 bytes each, 67M at 4096 with 4 samples) never exist at once.
+  auto t0 = Clock::now();
+  Expected<AtlasBands> bands_or = AtlasBands::prepare(mesh, {options.size, options.samples});
+  if (!bands_or) return bands_or.error();
+  const AtlasBands& bands = *bands_or;
+  const double prepare_seconds = seconds_since(t0);
+
+  // The scene, shared by the samples' rays and the fill's vertex bake.
+  std::optional<EmbreeScene> scene;
+  if (sh.visibility == Visibility::kFirst && !bands.empty()) {
+    t0 = Clock::now();
+    Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
+    if (!built) return built.error();
+    scene.emplace(std::move(*built));
+    result.timings.scene_build = seconds_since(t0);
+  }
+
+  // The fill (per-vertex inpainting: bake_vertex with the bilinear filter and
+  // --occluded fill), in the working encoding.
+  auto fill_colors_for = [&]() -> Expected<std::vector<Rgba>> {
+    VertexBakeOptions vo = sh;
+    vo.filter = VertexFilter::kBilinear;
+    vo.occluded = OccludedMode::kFill;
+    Expected<VertexBakeStage> stage =
+        bake_vertex_sample(mesh, image, proxy, vo, nullptr, scene ? &*scene : nullptr);
+    if (!stage) return stage.error();
+    Expected<VertexBakeResult> vertex = bake_vertex_finish(mesh, std::move(*stage));
+    if (!vertex) return vertex.error();
+    std::vector<Rgba> vc = std::move(vertex->colors);  // sRGB-encoded
+    if (sh.linear) {
+      for (Rgba& c : vc)
+        for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear(c[k]);
+    }
+    return vc;
+  };
+  // With visibility and --occluded fill nearly every mesh has occluded
+  // samples: compute the fill before the pass, so each streamed texel is
+  // final once written. Otherwise only undefined samples (a proxy's singular
+  // points) need it: their texels are deferred and finished after the pass,
+  // if there are any.
+  std::vector<Rgba> fill_colors;
+  const bool fill_first =
+      sh.occluded == OccludedMode::kFill && sh.visibility == Visibility::kFirst && !bands.empty();
+  if (fill_first) {
+    t0 = Clock::now();
+    Expected<std::vector<Rgba>> vc = fill_colors_for();
+    if (!vc) return vc.error();
+    fill_colors = std::move(*vc);
+    result.timings.fill = seconds_since(t0);
+  }
+
+  // 2. Sample.
+  t0 = Clock::now();
+  std::vector<float> linear_pixels;
+  SampleContext ctx;
+  ctx.mesh = &mesh;
+  ctx.image = image;
+  ctx.linear = sh.linear;
+  if (sh.linear) {
+    linear_pixels.assign(image.data,
+                         image.data + static_cast<std::size_t>(image.width) * image.height * 4);
+    for (std::size_t i = 0; i < linear_pixels.size(); i += 4) {
+      for (int c = 0; c < 3; ++c) linear_pixels[i + c] = srgb_to_linear(linear_pixels[i + c]);
+    }
+    ctx.image.data = linear_pixels.data();
+  }
+  ctx.wrap_u = wrap_u(proxy);
+  ctx.wrap_v = wrap_v(proxy);
+  if (std::holds_alternative<Plane>(proxy) && sh.plane_wrap == WrapMode::kRepeat) {
+    ctx.wrap_u = ctx.wrap_v = WrapMode::kRepeat;
+    ctx.no_outside = true;
+  }
+  ctx.outside_constant = sh.outside == OutsideMode::kColor;
+  ctx.outside_color = sh.outside_color;
+  ctx.occluded_color = sh.occluded_color;
+  if (sh.linear) {
+    for (int c = 0; c < 3; ++c) {
+      ctx.outside_color[c] = srgb_to_linear(ctx.outside_color[c]);
+      ctx.occluded_color[c] = srgb_to_linear(ctx.occluded_color[c]);
+    }
+  }
+  ctx.occluded = sh.occluded;
+  ctx.fill_colors = fill_first ? &fill_colors : nullptr;
+  if (scene) {
+    ctx.scene = &*scene;
+    ctx.ray_offset = visibility_offset(*scene);
+  }
+
+  const int n = options.size;
+  result.atlas.width = n;
+  result.atlas.height = n;
+  result.atlas.pixels.assign(static_cast<std::size_t>(n) * n * 4, 0.f);
+  result.baked.assign(static_cast<std::size_t>(n) * n, 0);
+  ctx.atlas = result.atlas.pixels.data();
+  ctx.baked = result.baked.data();
+
+  // Bands write disjoint rows of the atlas: no race, and each texel's value
+  // depends only on its own samples, so the result is independent of the
+  // thread count. Counts are integer sums (order-free).
+  std::atomic<std::size_t> texels{0}, border{0}, occluded{0}, undefined{0}, outside{0};
+  std::atomic<int64_t> raster_ns{0}, sample_ns{0};
+  std::mutex deferred_mutex;
+  std::vector<Deferred> deferred;
+  if (progress) progress->start("atlas", static_cast<std::size_t>(n));
+  parallel_for_chunks(bands.band_count(), 1, [&](std::size_t band_begin, std::size_t band_end) {
+    Worker w;
+    int64_t r_ns = 0, s_ns = 0;
+    std::size_t t_count = 0, b_count = 0;
+    std::visit(
+        [&](const auto& p) {
+          for (std::size_t band = band_begin; band < band_end; ++band) {
+            const auto ta = Clock::now();
+            bands.rasterize(band, w.band, w.scratch);
+            const auto tb = Clock::now();
+            const std::size_t count = w.band.texels.size();
+            for (std::size_t k = 0; k < count; k += kTexelBatch) {
+              bake_texels(p, ctx, w, k, std::min(count, k + kTexelBatch));
+            }
+            r_ns += nanoseconds(tb - ta);
+            s_ns += nanoseconds(Clock::now() - tb);
+            t_count += count;
+            b_count += w.band.border_samples;
+            if (progress) progress->advance(bands.band_rows(band));
+          }
+        },
+        proxy);
+    texels += t_count;
+    border += b_count;
+    occluded += w.counts.occluded;
+    undefined += w.counts.undefined;
+    outside += w.counts.outside;
+    raster_ns += r_ns;
+    sample_ns += s_ns;
+    if (!w.deferred.texels.empty()) {
+      std::lock_guard<std::mutex> lock(deferred_mutex);
+      deferred.push_back(std::move(w.deferred));
+    }
+  });
+  if (progress) progress->finish();
+  scene.reset();
+  result.counts.texels = texels.load();
+  result.counts.samples = result.counts.texels * static_cast<std::size_t>(options.samples);
+  result.counts.border_samples = border.load();
+  result.counts.occluded = occluded.load();
+  result.counts.undefined = undefined.load();
+  result.counts.outside = outside.load();
+  // Rasterising and sampling interleave per band: the pass's wall time is
+  // split between the two in proportion to the thread time each took.
+  const double pass = seconds_since(t0);
+  const double busy = static_cast<double>(raster_ns.load() + sample_ns.load());
+  const double raster_share = busy > 0 ? raster_ns.load() / busy : 0;
+  result.timings.rasterize = prepare_seconds + pass * raster_share;
+  result.timings.sample = pass * (1 - raster_share);
+
+  // Deferred texels (their order does not matter: each is independent).
+  if (!deferred.empty()) {
+    t0 = Clock::now();
+    Expected<std::vector<Rgba>> vc = fill_colors_for();
+    if (!vc) return vc.error();
+    for (const Deferred& d : deferred) {
+      for (Deferred::Texel texel : d.texels) {
+        for (uint32_t i = texel.first; i < texel.first + texel.count; ++i) {
+          const Deferred::Sample& ds = d.samples[i];
+          add_fill(mesh, *vc, ds.triangle, ds.b1, ds.b2, texel.acc);
+        }
+        store_texel(ctx, texel.texel, texel.acc, static_cast<std::size_t>(options.samples));
+      }
+    }
+    result.timings.fill = seconds_since(t0);
+  }
+
+  // 3. Pad.
+  t0 = Clock::now();
+  if (options.padding == kPaddingInfinite) {
+    result.counts.padded = push_pull_fill(result.atlas.pixels, result.baked, n, n);
+  } else {
+    const int rings = options.padding == kPaddingDefault ? default_padding(n) : options.padding;
+    std::vector<uint8_t> mask = result.baked;
+    result.counts.padded = dilate(result.atlas.pixels, mask, n, n, rings);
+  }
+  result.timings.pad = seconds_since(t0);
+  return result;
+}
+
+MeshData mesh_with_triangle_uvs(const MeshData& mesh, const std::vector<Float2>& uvs,
+                                const std::vector<std::array<uint32_t, 3>>& triangle_uvs) {
+  MeshData out;
+  out.positions = mesh.positions;
+  out.uvs = uvs;
+  const bool normals = !mesh.corner_normal.empty();
+  if (normals) out.normals = mesh.normals;
+  out.face_offsets.push_back(0);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uint32_t base = static_cast<uint32_t>(out.face_vertices.size());
+    for (int k = 0; k < 3; ++k) {
+      out.face_vertices.push_back(mesh.triangles[t][k]);
+      out.corner_uv.push_back(triangle_uvs[t][k]);
+      if (normals) out.corner_normal.push_back(mesh.corner_normal[mesh.triangle_corners[t][k]]);
+    }
+    out.face_offsets.push_back(base + 3);
+    out.triangles.push_back(mesh.triangles[t]);
+    out.triangle_corners.push_back({base, base + 1, base + 2});
+    out.triangle_face.push_back(static_cast<uint32_t>(t));
+  }
+  return out;
+}
+
+}  // namespace texbake

@@ -1,0 +1,218 @@
+#include "bake/atlas/dilate.h"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <vector>
+
+#include "bake/util/parallel.h"
+
+namespace texbake {
+namespace {
+
+constexpr std::size_t kRowGrain = 8;  // rows per parallel chunk
+
+struct Level {
+  int w = 0, h = 0;
+  std::vector<std::array<float, 4>> c;  // colour
+  std::vector<float> wt;                // weight in [0, 1]
+};
+
+}  // namespace
+
+int default_padding(int size) {
+  return std::max(1, static_cast<int>(std::lround(8.0 * size / 2048.0)));
+}
+
+// Ring by ring over a frontier instead of `texels` passes over the whole
+// image: ring 0's candidates are the unbaked 8-neighbours of baked texels
+// (one parallel scan), ring k+1's the unbaked neighbours of ring k. Each
+// candidate takes the average of its neighbours baked before its ring, which
+// is exactly what a full pass computes, so the result is the same while the
+// work after the scan is proportional to the texels filled (at 4096 with 16
+// rings: 16 full passes over 16.7M texels before).
+std::size_t dilate(std::span<float> rgba, std::span<uint8_t> baked, int width, int height,
+                   int texels) {
+  const std::size_t count = static_cast<std::size_t>(width) * height;
+  assert(rgba.size() >= count * 4 && baked.size() >= count);
+  if (texels <= 0 || count == 0) return 0;
+
+  // Ring 0: per row band, the unbaked texels with a baked neighbour,
+  // ascending; concatenated in band order.
+  const std::size_t row_chunks = (static_cast<std::size_t>(height) + kRowGrain - 1) / kRowGrain;
+  std::vector<std::vector<uint32_t>> per_chunk(row_chunks);
+  parallel_for_chunks(row_chunks, 1, [&](std::size_t c_begin, std::size_t c_end) {
+    for (std::size_t c = c_begin; c < c_end; ++c) {
+      const int y_begin = static_cast<int>(c * kRowGrain);
+      const int y_end = std::min(height, y_begin + static_cast<int>(kRowGrain));
+      for (int y = y_begin; y < y_end; ++y) {
+        const uint8_t* up = y > 0 ? &baked[static_cast<std::size_t>(y - 1) * width] : nullptr;
+        const uint8_t* row = &baked[static_cast<std::size_t>(y) * width];
+        const uint8_t* down =
+            y + 1 < height ? &baked[static_cast<std::size_t>(y + 1) * width] : nullptr;
+        for (int x = 0; x < width; ++x) {
+          if (row[x]) continue;
+          const int x0 = std::max(x - 1, 0), x1 = std::min(x + 1, width - 1);
+          bool near = false;
+          for (int xx = x0; xx <= x1 && !near; ++xx) {
+            near = row[xx] || (up && up[xx]) || (down && down[xx]);
+          }
+          if (near) per_chunk[c].push_back(static_cast<uint32_t>(y * width + x));
+        }
+      }
+    }
+  });
+  std::vector<uint32_t> ring, next;
+  for (auto& v : per_chunk) {
+    ring.insert(ring.end(), v.begin(), v.end());
+    v = {};
+  }
+
+  // queued: a texel is in the current or next ring (never listed twice).
+  std::vector<uint8_t> queued(count, 0);
+  for (uint32_t i : ring) queued[i] = 1;
+  std::size_t filled = 0;
+  for (int pass = 0; pass < texels && !ring.empty(); ++pass) {
+    // Writes go only to this ring's texels (unbaked), reads only to baked
+    // ones: no race, and the result does not depend on the order.
+    parallel_for_chunks(ring.size(), 4096, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t r = begin; r < end; ++r) {
+        const std::size_t i = ring[r];
+        const int x = static_cast<int>(i % width), y = static_cast<int>(i / width);
+        float sum[4] = {0, 0, 0, 0};
+        int n = 0;
+        for (int dy = -1; dy <= 1; ++dy) {
+          const int yy = y + dy;
+          if (yy < 0 || yy >= height) continue;
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int xx = x + dx;
+            if (xx < 0 || xx >= width || (dx == 0 && dy == 0)) continue;
+            const std::size_t j = static_cast<std::size_t>(yy) * width + xx;
+            if (!baked[j]) continue;
+            for (int c = 0; c < 4; ++c) sum[c] += rgba[j * 4 + c];
+            ++n;
+          }
+        }
+        // n > 0: every ring texel has a neighbour baked before its ring.
+        for (int c = 0; c < 4; ++c) rgba[i * 4 + c] = sum[c] / n;
+      }
+    });
+    for (uint32_t i : ring) baked[i] = 1;
+    filled += ring.size();
+    if (pass + 1 == texels) break;
+    next.clear();
+    for (uint32_t i : ring) {
+      const int x = static_cast<int>(i % width), y = static_cast<int>(i / width);
+      for (int dy = -1; dy <= 1; ++dy) {
+        const int yy = y + dy;
+        if (yy < 0 || yy >= height) continue;
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int xx = x + dx;
+          if (xx < 0 || xx >= width) continue;
+          const std::size_t j = static_cast<std::size_t>(yy) * width + xx;
+          if (baked[j] || queued[j]) continue;
+          queued[j] = 1;
+          next.push_back(static_cast<uint32_t>(j));
+        }
+      }
+    }
+    ring.swap(next);
+  }
+  return filled;
+}
+
+std::size_t push_pull_fill(std::span<float> rgba, std::span<const uint8_t> baked, int width,
+                           int height) {
+  const std::size_t count = static_cast<std::size_t>(width) * height;
+  assert(rgba.size() >= count * 4 && baked.size() >= count);
+  std::size_t holes = 0, baked_count = 0;
+  for (std::size_t i = 0; i < count; ++i) (baked[i] ? baked_count : holes) += 1;
+  if (baked_count == 0 || holes == 0) return 0;
+
+  // Level 0 is the image with weights 0 / 1.
+  std::vector<Level> levels(1);
+  levels[0].w = width;
+  levels[0].h = height;
+  levels[0].c.resize(count);
+  levels[0].wt.resize(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    levels[0].wt[i] = baked[i] ? 1.f : 0.f;
+    for (int c = 0; c < 4; ++c) levels[0].c[i][c] = baked[i] ? rgba[i * 4 + c] : 0.f;
+  }
+
+  // Pull: each coarser texel is the weighted mean of its (up to) 2 x 2
+  // children; its weight is their summed weight, clamped to 1.
+  while (levels.back().w > 1 || levels.back().h > 1) {
+    const Level& fine = levels.back();
+    Level coarse;
+    coarse.w = (fine.w + 1) / 2;
+    coarse.h = (fine.h + 1) / 2;
+    coarse.c.assign(static_cast<std::size_t>(coarse.w) * coarse.h, {0, 0, 0, 0});
+    coarse.wt.assign(coarse.c.size(), 0.f);
+    parallel_for_chunks(coarse.h, kRowGrain, [&](std::size_t y_begin, std::size_t y_end) {
+      for (int y = static_cast<int>(y_begin); y < static_cast<int>(y_end); ++y) {
+        for (int x = 0; x < coarse.w; ++x) {
+          double sw = 0, sc[4] = {0, 0, 0, 0};
+          for (int dy = 0; dy < 2; ++dy) {
+            for (int dx = 0; dx < 2; ++dx) {
+              const int fx = 2 * x + dx, fy = 2 * y + dy;
+              if (fx >= fine.w || fy >= fine.h) continue;
+              const std::size_t j = static_cast<std::size_t>(fy) * fine.w + fx;
+              const double w = fine.wt[j];
+              sw += w;
+              for (int c = 0; c < 4; ++c) sc[c] += w * fine.c[j][c];
+            }
+          }
+          const std::size_t i = static_cast<std::size_t>(y) * coarse.w + x;
+          if (sw > 0) {
+            for (int c = 0; c < 4; ++c) coarse.c[i][c] = static_cast<float>(sc[c] / sw);
+          }
+          coarse.wt[i] = static_cast<float>(std::min(1.0, sw));
+        }
+      }
+    });
+    levels.push_back(std::move(coarse));
+  }
+
+  // Push: from the coarsest level down, blend each texel with the bilinear
+  // upsampling of the (already filled) coarser level: c = w c + (1 - w) up.
+  // Fine texel x sits at coarse position (x + 0.5) / 2 - 0.5; edges clamp.
+  for (int k = static_cast<int>(levels.size()) - 2; k >= 0; --k) {
+    Level& fine = levels[k];
+    const Level& coarse = levels[k + 1];
+    parallel_for_chunks(fine.h, kRowGrain, [&](std::size_t y_begin, std::size_t y_end) {
+      for (int y = static_cast<int>(y_begin); y < static_cast<int>(y_end); ++y) {
+        for (int x = 0; x < fine.w; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * fine.w + x;
+          const float w = fine.wt[i];
+          if (w >= 1) continue;
+          const double cx = (x + 0.5) / 2 - 0.5, cy = (y + 0.5) / 2 - 0.5;
+          const int x0 = static_cast<int>(std::floor(cx)), y0 = static_cast<int>(std::floor(cy));
+          const double fx = cx - x0, fy = cy - y0;
+          auto at = [&](int xx, int yy) -> const std::array<float, 4>& {
+            xx = std::clamp(xx, 0, coarse.w - 1);
+            yy = std::clamp(yy, 0, coarse.h - 1);
+            return coarse.c[static_cast<std::size_t>(yy) * coarse.w + xx];
+          };
+          const auto &c00 = at(x0, y0), &c10 = at(x0 + 1, y0), &c01 = at(x0, y0 + 1),
+                     &c11 = at(x0 + 1, y0 + 1);
+          for (int c = 0; c < 4; ++c) {
+            const double top = c00[c] + fx * (c10[c] - c00[c]);
+            const double bottom = c01[c] + fx * (c11[c] - c01[c]);
+            const double up = top + fy * (bottom - top);
+            fine.c[i][c] = static_cast<float>(w * fine.c[i][c] + (1 - w) * up);
+          }
+        }
+      }
+    });
+  }
+
+  for (std::size_t i = 0; i < count; ++i) {
+    if (baked[i]) continue;
+    for (int c = 0; c < 4; ++c) rgba[i * 4 + c] = levels[0].c[i][c];
+  }
+  return holes;
+}
+
+}  // namespace texbake

@@ -1,0 +1,37 @@
+#include "bake/util/parallel.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <optional>
+
+namespace texbake {
+
+struct ThreadLimitImpl {
+  std::optional<tbb::global_control> control;
+};
+
+ThreadLimit::ThreadLimit(int threads) : impl_(std::make_unique<ThreadLimitImpl>()) {
+  if (threads > 0) {
+    impl_->control.emplace(tbb::global_control::max_allowed_parallelism,
+                           static_cast<std::size_t>(threads));
+  }
+}
+
+ThreadLimit::~ThreadLimit() = default;
+
+void parallel_for_chunks(std::size_t n, std::size_t grain,
+                         const std::function<void(std::size_t, std::size_t)>& fn) {
+  if (n == 0) return;
+  grain = std::max<std::size_t>(grain, 1);
+  // simple_partitioner with a fixed grain: chunk boundaries depend only on n
+  // and grain, never on the thread count.
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, n, grain),
+      [&](const tbb::blocked_range<std::size_t>& r) { fn(r.begin(), r.end()); },
+      tbb::simple_partitioner());
+}
+
+}  // namespace texbake

@@ -1,0 +1,414 @@
+#include "bake/vertex/bake_vertex.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <variant>
+
+#include "bake/trace/embree_scene.h"
+#include "bake/trace/visibility.h"
+#include "bake/util/parallel.h"
+#include "bake/util/timing.h"
+#include "bake/vertex/occlusion_fill.h"
+#include "mapping/sample.h"
+
+namespace texbake {
+
+namespace {
+
+// Vertices per parallel chunk: one std::visit, one visibility batch and one
+// progress update each. Small enough to balance the area filter's uneven cost.
+constexpr std::size_t kVertexGrain = 1024;
+
+enum VertexState : uint8_t { kVisible = 0, kOccluded = 1, kUndefined = 2 };
+
+Vec3 to_vec(const Float3& p) {
+  return {p.x, p.y, p.z};
+}
+
+// SplitMix64 (Steele, Lea, Flood 2014): a statistically good 64-bit mixer, so
+// per-(vertex, sample) jitter needs no generator state.
+uint64_t splitmix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+double hash01(uint64_t vertex, uint64_t index) {
+  return static_cast<double>(splitmix64(splitmix64(vertex) ^ index) >> 11) * 0x1.0p-53;
+}
+// Van der Corput sequence in base 2: the second coordinate of a Hammersley set.
+double radical_inverse2(uint32_t i) {
+  i = (i << 16) | (i >> 16);
+  i = ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
+  i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
+  i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
+  i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
+  return static_cast<double>(i) * 0x1.0p-32;
+}
+
+// Vertex -> adjacent triangles (CSR), by counting sort over MeshData::triangles.
+struct Adjacency {
+  std::vector<uint32_t> offsets;    // size vertex_count + 1
+  std::vector<uint32_t> triangles;  // triangle indices, ascending per vertex
+};
+
+Adjacency build_adjacency(const MeshData& mesh) {
+  Adjacency adj;
+  adj.offsets.assign(mesh.positions.size() + 1, 0);
+  for (const auto& tri : mesh.triangles) {
+    for (uint32_t v : tri) ++adj.offsets[v + 1];
+  }
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) adj.offsets[v + 1] += adj.offsets[v];
+  adj.triangles.resize(adj.offsets.back());
+  std::vector<uint32_t> cursor(adj.offsets.begin(), adj.offsets.end() - 1);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (uint32_t v : mesh.triangles[t]) adj.triangles[cursor[v]++] = static_cast<uint32_t>(t);
+  }
+  return adj;
+}
+
+// Everything a chunk reads, shared by all chunks.
+struct BakeContext {
+  const MeshData* mesh = nullptr;
+  const VertexBakeOptions* options = nullptr;
+  ImageView image;  // linear copy with options.linear
+  WrapMode wrap_u = WrapMode::kClamp, wrap_v = WrapMode::kClamp;
+  bool no_outside = false;  // plane with --wrap repeat: tiles, never outside
+  bool outside_constant = false;
+  Rgba outside_color{};  // in the working encoding (linear with options.linear)
+  const Adjacency* adjacency = nullptr;
+  const EmbreeScene* scene = nullptr;  // null: no visibility test
+  double ray_offset = 0;
+};
+
+// Per-chunk counters, added to the totals once per chunk (integer sums, so
+// the totals do not depend on the order).
+struct ChunkCounts {
+  std::size_t samples = 0, outside = 0;
+};
+
+struct Accumulator {
+  double sum[4] = {0, 0, 0, 0};
+  int count = 0;
+  void add(const Rgba& c) {
+    for (int k = 0; k < 4; ++k) sum[k] += c[k];
+    ++count;
+  }
+  Rgba mean() const {
+    const double inv = 1.0 / count;
+    return {static_cast<float>(sum[0] * inv), static_cast<float>(sum[1] * inv),
+            static_cast<float>(sum[2] * inv), static_cast<float>(sum[3] * inv)};
+  }
+};
+
+// One mapped sample into the accumulator (SPEC section 2 --outside).
+void accumulate(const BakeContext& ctx, const MapResult& m, Accumulator& acc, ChunkCounts& counts) {
+  ++counts.samples;
+  if (m.status == MapStatus::kUndefined) return;
+  if (m.status == MapStatus::kOutside && !ctx.no_outside) {
+    ++counts.outside;
+    if (ctx.outside_constant) {
+      acc.add(ctx.outside_color);
+      return;
+    }
+  }
+  acc.add(sample_bilinear(ctx.image, m.uv, ctx.wrap_u, ctx.wrap_v));
+}
+
+// The projected colour of vertex v (no visibility), or nullopt if no sample
+// has a mapping. vertex_map is proxy.inverse_map(position of v).
+template <class P>
+std::optional<Rgba> vertex_color(const P& proxy, const BakeContext& ctx, uint32_t v,
+                                 const MapResult& vertex_map, std::vector<double>& cdf,
+                                 ChunkCounts& counts) {
+  const MeshData& mesh = *ctx.mesh;
+  Accumulator acc;
+  const uint32_t first = ctx.adjacency ? ctx.adjacency->offsets[v] : 0;
+  const uint32_t k = ctx.adjacency ? ctx.adjacency->offsets[v + 1] - first : 0;
+  const Vec3 a = to_vec(mesh.positions[v]);
+
+  double total = 0;
+  if (k > 0) {
+    cdf.resize(k);
+    for (uint32_t j = 0; j < k; ++j) {
+      const auto& tri = mesh.triangles[ctx.adjacency->triangles[first + j]];
+      const Vec3 p0 = to_vec(mesh.positions[tri[0]]);
+      const Vec3 e =
+          cross(to_vec(mesh.positions[tri[1]]) - p0, to_vec(mesh.positions[tri[2]]) - p0);
+      total += 0.5 * length(e);
+      cdf[j] = total;
+    }
+  }
+  if (!(total > 0)) {  // bilinear filter, or a vertex in no (non-degenerate) triangle
+    accumulate(ctx, vertex_map, acc, counts);
+    if (acc.count == 0) return std::nullopt;
+    return acc.mean();
+  }
+
+  const int n = ctx.options->samples;
+  // Rotation of the second coordinate per vertex (Cranley-Patterson).
+  const double rotation = hash01(v, 0xFFFFFFFFull);
+  uint32_t j = 0;
+  for (int s = 0; s < n; ++s) {
+    // x: stratified (one sample per 1/n of the vertex's share, jittered),
+    // y: a rotated van der Corput point, so (x, y) is a jittered Hammersley set.
+    const double x = (s + hash01(v, static_cast<uint64_t>(s))) / n;
+    double y = radical_inverse2(static_cast<uint32_t>(s)) + rotation;
+    if (y >= 1) y -= 1;
+    // x runs over the cumulative area: find the triangle (x grows with s).
+    const double target = x * total;
+    while (j + 1 < k && cdf[j] <= target) ++j;
+    const double before = j > 0 ? cdf[j - 1] : 0.0;
+    const double local = std::clamp((target - before) / (cdf[j] - before), 0.0, 1.0);
+
+    // The vertex's share of triangle (a, b, c) is the quad a, (a+b)/2,
+    // centroid, (a+c)/2: two triangles of equal area, split on `local`.
+    const auto& tri = mesh.triangles[ctx.adjacency->triangles[first + j]];
+    const int at = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    const Vec3 b = to_vec(mesh.positions[tri[(at + 1) % 3]]);
+    const Vec3 c = to_vec(mesh.positions[tri[(at + 2) % 3]]);
+    const Vec3 centroid = (a + b + c) / 3.0;
+    const bool first_half = local < 0.5;
+    const double r1 = first_half ? 2 * local : 2 * local - 1;
+    const Vec3 q1 = first_half ? (a + b) * 0.5 : centroid;
+    const Vec3 q2 = first_half ? centroid : (a + c) * 0.5;
+    // Uniform point in triangle (a, q1, q2) (Shirley's square-to-triangle map).
+    const double su = std::sqrt(r1);
+    const Vec3 p = a * (1 - su) + q1 * (su * (1 - y)) + q2 * (su * y);
+    accumulate(ctx, proxy.inverse_map(p), acc, counts);
+  }
+  if (acc.count == 0) return std::nullopt;
+  return acc.mean();
+}
+
+// Per-chunk scratch, allocated once per chunk (never per sample).
+struct ChunkScratch {
+  std::vector<MapResult> maps;
+  std::vector<uint32_t> ray_vertex;
+  std::vector<uint8_t> visible;
+  std::vector<double> cdf;
+  VisibilityBatch batch;
+};
+
+template <class P>
+void bake_chunk(const P& proxy, const BakeContext& ctx, std::size_t begin, std::size_t end,
+                std::vector<Rgba>& colors, std::vector<uint8_t>& state, ChunkCounts& counts) {
+  const MeshData& mesh = *ctx.mesh;
+  ChunkScratch scratch;
+  scratch.maps.resize(end - begin);
+  if (ctx.scene) {
+    scratch.batch.reserve(end - begin);
+    scratch.ray_vertex.reserve(end - begin);
+  }
+  for (std::size_t v = begin; v < end; ++v) {
+    const Vec3 p = to_vec(mesh.positions[v]);
+    const MapResult m = proxy.inverse_map(p);
+    scratch.maps[v - begin] = m;
+    state[v] = kVisible;
+    if (m.status == MapStatus::kUndefined) {
+      state[v] = kUndefined;
+    } else if (ctx.scene) {
+      scratch.batch.add(p, m.to_projector);
+      scratch.ray_vertex.push_back(static_cast<uint32_t>(v));
+    }
+  }
+  if (ctx.scene && scratch.batch.size() > 0) {
+    scratch.visible.resize(scratch.batch.size());
+    scratch.batch.trace(*ctx.scene, ctx.ray_offset, scratch.visible.data());
+    for (std::size_t i = 0; i < scratch.ray_vertex.size(); ++i) {
+      if (!scratch.visible[i]) state[scratch.ray_vertex[i]] = kOccluded;
+    }
+  }
+  const bool need_occluded_colors = ctx.options->occluded == OccludedMode::kProject;
+  for (std::size_t v = begin; v < end; ++v) {
+    if (state[v] == kUndefined) continue;
+    if (state[v] == kOccluded && !need_occluded_colors) continue;
+    const std::optional<Rgba> c = vertex_color(proxy, ctx, static_cast<uint32_t>(v),
+                                               scratch.maps[v - begin], scratch.cdf, counts);
+    if (c) {
+      colors[v] = *c;
+    } else {
+      state[v] = kUndefined;
+    }
+  }
+}
+
+// The image's RGB converted from sRGB to linear (alpha unchanged), in parallel.
+std::vector<float> linearise(const ImageView& image) {
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  std::vector<float> out(image.data, image.data + pixels * 4);
+  parallel_for_chunks(pixels, 16384, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      for (int k = 0; k < 3; ++k) out[4 * i + k] = srgb_to_linear(out[4 * i + k]);
+    }
+  });
+  return out;
+}
+
+Rgba image_mean(const ImageView& image) {
+  double sum[4] = {0, 0, 0, 0};
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  for (std::size_t i = 0; i < pixels; ++i) {
+    for (int k = 0; k < 4; ++k) sum[k] += image.data[4 * i + k];
+  }
+  Rgba mean;
+  for (int k = 0; k < 4; ++k) mean[k] = static_cast<float>(sum[k] / static_cast<double>(pixels));
+  return mean;
+}
+
+}  // namespace
+
+Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageView& image,
+                                             const Proxy& proxy, const VertexBakeOptions& options,
+                                             Progress* progress, const EmbreeScene* shared_scene) {
+  using Clock = std::chrono::steady_clock;
+  VertexBakeStage stage;
+  stage.options = options;
+  VertexBakeResult& result = stage.result;
+  const std::size_t n = mesh.positions.size();
+  result.counts.vertices = n;
+  result.counts.triangles = mesh.triangles.size();
+  result.colors.assign(n, Rgba{0, 0, 0, 1});
+
+  // Scene (SPEC section 3): built once, LOW quality since every ray is traced
+  // once; only when the visibility test is on.
+  std::optional<EmbreeScene> scene;
+  if (options.visibility == Visibility::kFirst && !shared_scene) {
+    const auto start = Clock::now();
+    Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
+    if (!built) return built.error();
+    scene.emplace(std::move(built).value());
+    result.timings.scene_build = seconds_since(start);
+  }
+
+  const auto bake_start = Clock::now();
+  std::vector<float> linear_pixels;
+  BakeContext ctx;
+  ctx.mesh = &mesh;
+  ctx.options = &options;
+  ctx.image = image;
+  if (options.linear) {
+    linear_pixels = linearise(image);
+    ctx.image.data = linear_pixels.data();
+  }
+  ctx.wrap_u = wrap_u(proxy);
+  ctx.wrap_v = wrap_v(proxy);
+  if (std::holds_alternative<Plane>(proxy) && options.plane_wrap == WrapMode::kRepeat) {
+    ctx.wrap_u = ctx.wrap_v = WrapMode::kRepeat;
+    ctx.no_outside = true;
+  }
+  ctx.outside_constant = options.outside == OutsideMode::kColor;
+  ctx.outside_color = options.outside_color;
+  if (options.linear) {
+    for (int k = 0; k < 3; ++k) ctx.outside_color[k] = srgb_to_linear(ctx.outside_color[k]);
+  }
+  Adjacency adjacency;
+  if (options.filter == VertexFilter::kArea) {
+    adjacency = build_adjacency(mesh);
+    ctx.adjacency = &adjacency;
+  }
+  if (scene) {
+    ctx.scene = &*scene;
+    ctx.ray_offset = visibility_offset(*scene);
+  } else if (shared_scene && options.visibility == Visibility::kFirst) {
+    ctx.scene = shared_scene;
+    ctx.ray_offset = visibility_offset(*shared_scene);
+  }
+
+  std::vector<uint8_t>& state = stage.state;
+  state.assign(n, kVisible);
+  std::atomic<std::size_t> samples{0}, outside{0};
+  if (progress) progress->start("bake", n);
+  parallel_for_chunks(n, kVertexGrain, [&](std::size_t begin, std::size_t end) {
+    ChunkCounts counts;
+    std::visit([&](const auto& p) { bake_chunk(p, ctx, begin, end, result.colors, state, counts); },
+               proxy);
+    samples += counts.samples;
+    outside += counts.outside;
+    if (progress) progress->advance(end - begin);
+  });
+  if (progress) progress->finish();
+  scene.reset();  // the BVH is not needed any more: free it before the fill
+  result.timings.bake = seconds_since(bake_start);
+
+  // Occluded and undefined vertices (SPEC section 3).
+  const auto fill_start = Clock::now();
+  std::vector<uint8_t> unknown(n, 0);
+  std::size_t unknown_count = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (state[v] == kOccluded) ++result.counts.occluded;
+    if (state[v] == kUndefined) ++result.counts.undefined;
+    const bool fill = (state[v] == kOccluded && options.occluded == OccludedMode::kFill) ||
+                      (state[v] == kUndefined && options.occluded != OccludedMode::kColor);
+    unknown[v] = fill ? 1 : 0;
+    unknown_count += fill;
+  }
+  if (unknown_count > 0) {
+    ChunkCounts fallback_counts;
+    std::optional<Rgba> mean;
+    std::vector<double> cdf;
+    // Unanchored components take the projected colour; vertices without any
+    // mapping take the image's mean colour (never black, never arbitrary).
+    auto fallback = [&](uint32_t v) -> Rgba {
+      if (state[v] == kOccluded) {
+        return std::visit(
+            [&](const auto& p) -> Rgba {
+              const MapResult m = p.inverse_map(to_vec(mesh.positions[v]));
+              if (auto c = vertex_color(p, ctx, v, m, cdf, fallback_counts)) return *c;
+              if (!mean) mean = image_mean(ctx.image);
+              return *mean;
+            },
+            proxy);
+      }
+      if (!mean) mean = image_mean(ctx.image);
+      return *mean;
+    };
+    stage.plan = plan_fill(mesh, result.colors, unknown, fallback);
+    result.counts.filled = stage.plan.result.filled;
+    result.counts.unfilled = stage.plan.result.unfilled;
+    samples += fallback_counts.samples;
+    outside += fallback_counts.outside;
+  }
+  result.counts.samples = samples.load();
+  result.counts.outside = outside.load();
+  result.timings.fill = seconds_since(fill_start);
+  return stage;
+}
+
+Expected<VertexBakeResult> bake_vertex_finish(const MeshData& mesh, VertexBakeStage stage) {
+  const auto fill_start = std::chrono::steady_clock::now();
+  VertexBakeResult& result = stage.result;
+  const VertexBakeOptions& options = stage.options;
+  const std::size_t n = result.colors.size();
+  if (result.counts.filled > 0) {
+    Expected<FillResult> filled = solve_fill(mesh, result.colors, std::move(stage.plan));
+    if (!filled) return filled.error();
+  }
+  if (options.linear) {
+    parallel_for_chunks(n, 16384, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t v = begin; v < end; ++v) {
+        for (int k = 0; k < 3; ++k) result.colors[v][k] = linear_to_srgb(result.colors[v][k]);
+      }
+    });
+  }
+  if (options.occluded == OccludedMode::kColor) {
+    for (std::size_t v = 0; v < n; ++v) {
+      if (stage.state[v] != kVisible) result.colors[v] = options.occluded_color;
+    }
+  }
+  result.timings.fill += seconds_since(fill_start);
+  return std::move(result);
+}
+
+Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& image,
+                                       const Proxy& proxy, const VertexBakeOptions& options,
+                                       Progress* progress) {
+  Expected<VertexBakeStage> stage = bake_vertex_sample(mesh, image, proxy, options, progress);
+  if (!stage) return stage.error();
+  return bake_vertex_finish(mesh, std::move(stage).value());
+}
+
+}  // namespace texbake

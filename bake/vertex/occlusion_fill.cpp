@@ -1,0 +1,210 @@
+#include "bake/vertex/occlusion_fill.h"
+
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <numeric>
+#include <utility>
+
+namespace texbake {
+
+namespace {
+
+// Union-find with path halving, over the unknown vertices.
+class DisjointSets {
+ public:
+  explicit DisjointSets(std::size_t n) : parent_(n) {
+    std::iota(parent_.begin(), parent_.end(), 0u);
+  }
+  uint32_t find(uint32_t x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);  // deterministic root
+  }
+
+ private:
+  std::vector<uint32_t> parent_;
+};
+
+constexpr uint32_t kNotUnknown = 0xFFFFFFFFu;
+
+}  // namespace
+
+FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
+                   const std::vector<uint8_t>& unknown,
+                   const std::function<Rgba(uint32_t vertex)>& fallback) {
+  const std::size_t n = mesh.positions.size();
+  FillPlan plan;
+  FillResult& result = plan.result;
+
+  // Number the unknown vertices 0..m-1.
+  std::vector<uint32_t> slot(n, kNotUnknown);
+  std::vector<uint32_t> vertex_of;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (unknown[v]) {
+      slot[v] = static_cast<uint32_t>(vertex_of.size());
+      vertex_of.push_back(static_cast<uint32_t>(v));
+    }
+  }
+  const std::size_t m = vertex_of.size();
+  if (m == 0) return plan;
+
+  // Components of unknown vertices, and which of them touch a known vertex.
+  DisjointSets sets(m);
+  std::vector<uint8_t> touches_known(m, 0);
+  for (const auto& tri : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = tri[k], b = tri[(k + 1) % 3];
+      const uint32_t sa = slot[a], sb = slot[b];
+      if (sa != kNotUnknown && sb != kNotUnknown) {
+        sets.unite(sa, sb);
+      } else if (sa != kNotUnknown) {
+        touches_known[sa] = 1;
+      } else if (sb != kNotUnknown) {
+        touches_known[sb] = 1;
+      }
+    }
+  }
+  std::vector<uint8_t> anchored(m, 0);
+  for (std::size_t i = 0; i < m; ++i) {
+    if (touches_known[i]) anchored[sets.find(static_cast<uint32_t>(i))] = 1;
+  }
+
+  // Rows of the system: the anchored unknowns, numbered so that each
+  // component's rows are contiguous (components in order of their smallest
+  // unknown, vertices in input order within one). The others fall back.
+  std::vector<uint32_t> component_of_root(m, kNotUnknown);
+  std::vector<uint32_t> component_start;  // first row of each component, + total
+  for (std::size_t i = 0; i < m; ++i) {
+    const uint32_t root = sets.find(static_cast<uint32_t>(i));
+    if (!anchored[root]) continue;
+    if (component_of_root[root] == kNotUnknown) {
+      component_of_root[root] = static_cast<uint32_t>(component_start.size());
+      component_start.push_back(0);
+    }
+    ++component_start[component_of_root[root]];
+  }
+  {
+    uint32_t total = 0;
+    for (uint32_t& c : component_start) total += std::exchange(c, total);
+    component_start.push_back(total);
+  }
+  std::vector<uint32_t> row(m, kNotUnknown);
+  {
+    std::vector<uint32_t> next(component_start.begin(), component_start.end() - 1);
+    for (std::size_t i = 0; i < m; ++i) {
+      const uint32_t root = sets.find(static_cast<uint32_t>(i));
+      if (anchored[root]) {
+        row[i] = next[component_of_root[root]]++;
+      } else {
+        colors[vertex_of[i]] = fallback(vertex_of[i]);
+        ++result.unfilled;
+      }
+    }
+  }
+  result.filled = component_start.back();
+  plan.slot = std::move(slot);
+  plan.row = std::move(row);
+  plan.vertex_of = std::move(vertex_of);
+  plan.component_start = std::move(component_start);
+  return plan;
+}
+
+Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors, FillPlan plan) {
+  const std::vector<uint32_t>& slot = plan.slot;
+  const std::vector<uint32_t>& row = plan.row;
+  const std::vector<uint32_t>& vertex_of = plan.vertex_of;
+  const std::vector<uint32_t>& component_start = plan.component_start;
+  const FillResult result = plan.result;
+  const std::size_t m = vertex_of.size();
+  const std::size_t rows = result.filled;
+  if (rows == 0) return result;
+  const std::size_t components = component_start.size() - 1;
+
+  // L_uu c_u = W_ub c_b: each triangle edge adds weight 1 (so an interior edge
+  // of a manifold mesh weighs 2, uniformly: the solution is unchanged).
+  std::vector<double> diagonal(rows, 0.0);
+  std::vector<std::pair<uint32_t, uint32_t>> couplings;  // (row, column), row > column
+  couplings.reserve(mesh.triangles.size());
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows), 4);
+  auto row_of = [&](uint32_t v) { return slot[v] == kNotUnknown ? kNotUnknown : row[slot[v]]; };
+  for (const auto& tri : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = tri[k], b = tri[(k + 1) % 3];
+      const uint32_t ra = row_of(a), rb = row_of(b);
+      if (ra != kNotUnknown && rb != kNotUnknown) {
+        diagonal[ra] += 1, diagonal[rb] += 1;
+        couplings.emplace_back(std::max(ra, rb), std::min(ra, rb));
+      } else if (ra != kNotUnknown) {
+        // b is known (an unanchored unknown never shares an edge with an anchored one).
+        diagonal[ra] += 1;
+        for (int c = 0; c < 4; ++c) rhs(ra, c) += colors[b][c];
+      } else if (rb != kNotUnknown) {
+        diagonal[rb] += 1;
+        for (int c = 0; c < 4; ++c) rhs(rb, c) += colors[a][c];
+      }
+    }
+  }
+  // Group the couplings by component (a stable counting sort on their row).
+  std::vector<uint32_t> component_of_row(rows);
+  for (std::size_t c = 0; c < components; ++c) {
+    std::fill(component_of_row.begin() + component_start[c],
+              component_of_row.begin() + component_start[c + 1], static_cast<uint32_t>(c));
+  }
+  std::vector<uint32_t> coupling_start(components + 1, 0);
+  for (const auto& [r, col] : couplings) ++coupling_start[component_of_row[r] + 1];
+  for (std::size_t c = 0; c < components; ++c) coupling_start[c + 1] += coupling_start[c];
+  std::vector<std::pair<uint32_t, uint32_t>> grouped(couplings.size());
+  {
+    std::vector<uint32_t> next(coupling_start.begin(), coupling_start.end() - 1);
+    for (const auto& e : couplings) grouped[next[component_of_row[e.first]]++] = e;
+  }
+  couplings = {};
+
+  // One sparse symmetric positive definite solve per component: a component's
+  // factor is freed before the next is built, so the peak memory is that of
+  // the largest component, not of all. Only the lower triangle is stored
+  // (SimplicialLDLT reads no more); AMD ordering (Eigen's default) keeps the
+  // factor's fill-in small.
+  std::vector<Eigen::Triplet<double>> triplets;
+  for (std::size_t c = 0; c < components; ++c) {
+    const uint32_t first = component_start[c];
+    const auto size = static_cast<Eigen::Index>(component_start[c + 1] - first);
+    triplets.clear();
+    for (uint32_t k = coupling_start[c]; k < coupling_start[c + 1]; ++k) {
+      triplets.emplace_back(grouped[k].first - first, grouped[k].second - first, -1.0);
+    }
+    for (Eigen::Index r = 0; r < size; ++r) triplets.emplace_back(r, r, diagonal[first + r]);
+    Eigen::SparseMatrix<double> laplacian(size, size);
+    laplacian.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(laplacian);
+    if (solver.info() != Eigen::Success) {
+      return make_error(ErrorCode::kInternal, "occlusion fill: factorising the Laplacian failed");
+    }
+    rhs.middleRows(first, size) = solver.solve(rhs.middleRows(first, size)).eval();
+    if (solver.info() != Eigen::Success) {
+      return make_error(ErrorCode::kInternal, "occlusion fill: solving the Laplace system failed");
+    }
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    if (row[i] == kNotUnknown) continue;
+    const auto r = static_cast<Eigen::Index>(row[i]);
+    for (int c = 0; c < 4; ++c) colors[vertex_of[i]][c] = static_cast<float>(rhs(r, c));
+  }
+  return result;
+}
+
+Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colors,
+                                   const std::vector<uint8_t>& unknown,
+                                   const std::function<Rgba(uint32_t vertex)>& fallback) {
+  return solve_fill(mesh, colors, plan_fill(mesh, colors, unknown, fallback));
+}
+
+}  // namespace texbake
