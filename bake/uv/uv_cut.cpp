@@ -35,13 +35,15 @@ struct Scratch {
   std::vector<uint32_t> local;   // per corner root: local vertex index
 };
 
+// Cuts one chart into flattened disks (see cut_charts); one per chart task,
+// all sharing one Scratch.
 class ChartCutter {
  public:
   ChartCutter(const Geometry& g, const std::vector<uint32_t>& chart, Scratch& s, double max_stretch)
       : g_(g), chart_(chart), s_(s), max_stretch_(max_stretch) {}
 
-  // Flattens all triangles of chart c (given as `tris`) into one or more
-  // flat charts appended to out.
+  // Cuts chart c (its triangles `tris`, ascending) into one or more flat
+  // charts appended to out.
   void run(uint32_t c, std::vector<uint32_t> tris, std::vector<FlatChart>& out) {
     chart_id_ = c;
     process(std::move(tris), out);
