@@ -1,8 +1,8 @@
 // The atlas target of `texbake bake` (SPEC section 4/5, issue #4), packaged
 // for cmd_bake.cpp: flag registration, validation before any long work, and
 // one call that lays out UVs, bakes and writes. Lives in bake/cli because
-// `--uv generate` (texbake_fit, CGAL) and the bakers (texbake_bake) meet
-// only in the executable.
+// `--uv generate` (texbake_uv) and the bakers (texbake_atlas) meet only in
+// the executable.
 #pragma once
 
 #include <CLI/CLI.hpp>
