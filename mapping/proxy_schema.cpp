@@ -154,10 +154,6 @@ using Members = decltype(members(std::declval<P&>()));
 template <class P, std::size_t I>
 using MemberTypeOf = MemberType<std::remove_cvref_t<std::tuple_element_t<I, Members<P>>>>;
 
-constexpr bool is_direction(ParamRole role) {
-  return role == ParamRole::kDirection || role == ParamRole::kAxis;
-}
-
 // Table and struct agree: as many fields as members, each of the member's
 // type, exactly the equator optional, and directions (which default to `up`)
 // plain vectors.

@@ -71,6 +71,11 @@ enum class ParamRole {
   kConeHeight,  // the cone's height: passed to the fit (base plane placed there)
 };
 
+// A pole, axis or normal: defaults to `up` when not given.
+constexpr bool is_direction(ParamRole role) {
+  return role == ParamRole::kDirection || role == ParamRole::kAxis;
+}
+
 // A parameter as the user names it, the same in every kind that has it (a
 // sphere's and a disk's --center are one flag with one --help line).
 struct GeometryParam {
