@@ -337,10 +337,10 @@ Status check_spec_keys(const ProxySpec& spec, ParamNaming naming) {
   for (const auto& [key, value] : spec.values) {
     const ParamField* f = find_field(spec.kind, key);
     if (!f) {
-      // Another kind's parameter is shown by its name; anything else quoted.
+      // Another kind's parameter is shown as its flag when flags are named.
       std::string shown = "'" + key + "'";
       for (const GeometryParam& p : kParams) {
-        if (p.key == key) shown = naming == ParamNaming::kKey ? p.key : p.flag;
+        if (p.key == key && naming == ParamNaming::kFlag) shown = p.flag;
       }
       return invalid(spec.kind, "unknown parameter " + shown + " (expected " +
                                     field_list(spec.kind, naming, [](auto&) { return true; }) +
