@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/mapping/expect_same_params.h"
+
 namespace texbake {
 namespace {
 
@@ -132,45 +134,7 @@ TEST(ProxySchema, MissingFieldsPerKind) {
   EXPECT_TRUE(missing_fields(disk).empty());
 }
 
-// Member-by-member equality of two params (written out per kind).
-void expect_same(const ProxyParams& a, const ProxyParams& b) {
-  ASSERT_EQ(a.index(), b.index());
-  if (auto* s = std::get_if<SphereParams>(&a)) {
-    const auto& t = std::get<SphereParams>(b);
-    EXPECT_EQ(s->center, t.center);
-    EXPECT_EQ(s->radius, t.radius);
-    EXPECT_EQ(s->pole, t.pole);
-    EXPECT_EQ(s->equator, t.equator);
-  } else if (auto* c = std::get_if<CylinderParams>(&a)) {
-    const auto& d = std::get<CylinderParams>(b);
-    EXPECT_EQ(c->base, d.base);
-    EXPECT_EQ(c->axis, d.axis);
-    EXPECT_EQ(c->equator, d.equator);
-    EXPECT_EQ(c->radius, d.radius);
-    EXPECT_EQ(c->height, d.height);
-  } else if (auto* k = std::get_if<ConeParams>(&a)) {
-    const auto& l = std::get<ConeParams>(b);
-    EXPECT_EQ(k->apex, l.apex);
-    EXPECT_EQ(k->axis, l.axis);
-    EXPECT_EQ(k->equator, l.equator);
-    EXPECT_EQ(k->height, l.height);
-    EXPECT_EQ(k->radius, l.radius);
-  } else if (auto* d = std::get_if<DiskParams>(&a)) {
-    const auto& e = std::get<DiskParams>(b);
-    EXPECT_EQ(d->center, e.center);
-    EXPECT_EQ(d->normal, e.normal);
-    EXPECT_EQ(d->equator, e.equator);
-    EXPECT_EQ(d->radius, e.radius);
-  } else if (auto* q = std::get_if<QuadParams>(&a)) {
-    EXPECT_EQ(q->corners, std::get<QuadParams>(b).corners);
-  } else {
-    const auto& p = std::get<PlaneParams>(a);
-    const auto& r = std::get<PlaneParams>(b);
-    EXPECT_EQ(p.origin, r.origin);
-    EXPECT_EQ(p.u_axis, r.u_axis);
-    EXPECT_EQ(p.v_axis, r.v_axis);
-  }
-}
+using testing_params::expect_same_params;
 
 // One params value of every kind, every member distinct (equator set on
 // half of them).
@@ -214,7 +178,7 @@ TEST(ProxySchema, ParamsFromSpecInvertsSpecFromParams) {
     EXPECT_EQ(spec.kind, kind_of(p));
     Expected<ProxyParams> back = params_from_spec(spec);
     ASSERT_TRUE(back) << back.error().message;
-    expect_same(*back, p);
+    expect_same_params(*back, p);
   }
 }
 
@@ -306,7 +270,8 @@ TEST(ProxySchema, MergeWritesTheGivenValuesOverParams) {
   const ConeParams fitted{{1, 2, 3}, {0, 0, 1}, std::nullopt, 1.5, 0.5};
   Expected<ProxyParams> merged = merge_spec(given, fitted);
   ASSERT_TRUE(merged) << merged.error().message;
-  expect_same(*merged, ConeParams{{1, 2, 3}, {0, 0, 1}, Vec3{0, 1, 0}, 3, 0.5});  // up not applied
+  expect_same_params(*merged,
+                     ConeParams{{1, 2, 3}, {0, 0, 1}, Vec3{0, 1, 0}, 3, 0.5});  // up not applied
   expect_error(merge_spec(given, SphereParams{}), "cone: cannot merge into a sphere's values");
 }
 

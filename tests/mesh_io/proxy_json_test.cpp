@@ -10,6 +10,8 @@
 #include <string>
 #include <utility>
 
+#include "tests/mapping/expect_same_params.h"
+
 namespace texbake {
 namespace {
 
@@ -100,42 +102,7 @@ TEST(ProxyJson, EveryKindsParamsRoundTripThroughTheirKeys) {
     EXPECT_EQ(proxy_params_to_json(params), text);
     Expected<ProxyParams> back = proxy_params_from_json(text);
     ASSERT_TRUE(back.has_value()) << back.error().message;
-    ASSERT_EQ(back->index(), params.index());
-    if (const auto* s = std::get_if<SphereParams>(&params)) {
-      const auto& b = std::get<SphereParams>(*back);
-      EXPECT_EQ(b.center, s->center);
-      EXPECT_EQ(b.radius, s->radius);
-      EXPECT_EQ(b.pole, s->pole);
-      EXPECT_EQ(b.equator, s->equator);
-    } else if (const auto* c = std::get_if<CylinderParams>(&params)) {
-      const auto& b = std::get<CylinderParams>(*back);
-      EXPECT_EQ(b.base, c->base);
-      EXPECT_EQ(b.axis, c->axis);
-      EXPECT_EQ(b.equator, c->equator);
-      EXPECT_EQ(b.radius, c->radius);
-      EXPECT_EQ(b.height, c->height);
-    } else if (const auto* k = std::get_if<ConeParams>(&params)) {
-      const auto& b = std::get<ConeParams>(*back);
-      EXPECT_EQ(b.apex, k->apex);
-      EXPECT_EQ(b.axis, k->axis);
-      EXPECT_EQ(b.equator, k->equator);
-      EXPECT_EQ(b.height, k->height);
-      EXPECT_EQ(b.radius, k->radius);
-    } else if (const auto* d = std::get_if<DiskParams>(&params)) {
-      const auto& b = std::get<DiskParams>(*back);
-      EXPECT_EQ(b.center, d->center);
-      EXPECT_EQ(b.normal, d->normal);
-      EXPECT_EQ(b.equator, d->equator);
-      EXPECT_EQ(b.radius, d->radius);
-    } else if (const auto* q = std::get_if<QuadParams>(&params)) {
-      EXPECT_EQ(std::get<QuadParams>(*back).corners, q->corners);
-    } else {
-      const auto& p = std::get<PlaneParams>(params);
-      const auto& b = std::get<PlaneParams>(*back);
-      EXPECT_EQ(b.origin, p.origin);
-      EXPECT_EQ(b.u_axis, p.u_axis);
-      EXPECT_EQ(b.v_axis, p.v_axis);
-    }
+    testing_params::expect_same_params(*back, params);
   }
 }
 
