@@ -15,8 +15,8 @@
 
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
-#include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
+#include "bake/cli/proxy_for_mesh.h"
 #include "mesh_io/atomic_file.h"
 #include "texbake/texbake.h"
 
@@ -151,7 +151,7 @@ int run_render(const RenderArgs& args) {
   // Nothing to render is the mesh's problem, reported before a fit's.
   if (Status st = check_triangles(mesh); !st) return report_mesh_error(st.error(), args.mesh);
   if (projecting && !proxy) {
-    auto fitted = resolve_proxy(args.geometry, mesh, args.mesh, &std::cerr);
+    auto fitted = proxy_for_mesh(args.geometry, mesh, args.mesh, &std::cerr, run);
     if (!fitted) return report_error(fitted.error());
     proxy = std::move(fitted->proxy);
   }
