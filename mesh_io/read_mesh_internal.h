@@ -6,7 +6,8 @@
 //   read_off.cpp       OFF (ASCII parsed here, binary checked here and parsed
 //                      by OpenMesh);
 //   read_ply.cpp       PLY (parsed here);
-//   read_stl.cpp       STL (checked here, parsed by OpenMesh);
+//   read_stl.cpp       STL (ASCII parsed here, binary checked here and parsed
+//                      by OpenMesh);
 //   read_openmesh.cpp  the OpenMesh adapter: an importer into MeshData's
 //                      plain arrays;
 //   text_scan.h        the shared tokenizer, number parsing, line counting.

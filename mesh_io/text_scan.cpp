@@ -1,6 +1,7 @@
 #include "mesh_io/text_scan.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstdlib>
 #include <string>
 
@@ -33,6 +34,34 @@ std::optional<double> parse_number(std::string_view tok) {
   return v;
 }
 
+std::optional<float> parse_decimal_float(std::string_view tok) {
+  std::size_t i = 0;
+  auto digits = [&] {
+    const std::size_t from = i;
+    while (i < tok.size() && tok[i] >= '0' && tok[i] <= '9') ++i;
+    return i > from;
+  };
+  if (i < tok.size() && (tok[i] == '+' || tok[i] == '-')) ++i;
+  const bool whole = digits();
+  bool fraction = false;
+  if (i < tok.size() && tok[i] == '.') {
+    ++i;
+    fraction = digits();
+  }
+  if (!whole && !fraction) return std::nullopt;
+  if (i < tok.size() && (tok[i] == 'e' || tok[i] == 'E')) {
+    ++i;
+    if (i < tok.size() && (tok[i] == '+' || tok[i] == '-')) ++i;
+    if (!digits()) return std::nullopt;
+  }
+  if (i != tok.size()) return std::nullopt;
+  // The syntax is strtof's decimal form, so strtof reads the whole token.
+  const std::string s(tok);
+  const float v = std::strtof(s.c_str(), nullptr);
+  if (!std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
 bool TokenCursor::next(std::string_view& tok) {
   while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) {
     if (text[pos] == '\n') ++line;
@@ -43,6 +72,12 @@ bool TokenCursor::next(std::string_view& tok) {
   while (pos < text.size() && !std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
   tok = text.substr(b, pos - b);
   return true;
+}
+
+std::string_view TokenCursor::rest_of_line() {
+  const std::size_t b = pos;
+  while (pos < text.size() && text[pos] != '\n') ++pos;
+  return text.substr(b, pos - b);
 }
 
 }  // namespace texbake::read_detail

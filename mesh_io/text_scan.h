@@ -44,6 +44,13 @@ std::vector<std::string_view> tokens(std::string_view s);
 // nullopt if the token is empty or has anything after the number.
 std::optional<double> parse_number(std::string_view tok);
 
+// A whole token as a float, strictly: decimal syntax only
+// ([+-]digits[.[digits]] or [+-].digits, then optionally (e|E)[+-]digits;
+// no hex, inf or nan), rounded once to float (strtof, as an istream would),
+// and finite: nullopt otherwise, 1e39 (above float's range) included. Values
+// below float's smallest normal become denormals or 0, as with strtof.
+std::optional<float> parse_decimal_float(std::string_view tok);
+
 // A whole token as an integer of type Int (std::from_chars: no sign for
 // unsigned types, no '+', no spaces). False if it does not parse or fit.
 template <class Int>
@@ -62,6 +69,10 @@ struct TokenCursor {
   // The next token into `tok`; false (tok untouched) at the end of the text.
   // Line breaks before the token are counted in `line`.
   bool next(std::string_view& tok);
+  // The rest of the current line (up to '\n' or the end of the text, not
+  // included), consumed: free text after a keyword, such as an STL solid's
+  // name. Empty if the cursor is at a line break.
+  std::string_view rest_of_line();
 };
 
 }  // namespace texbake::read_detail
