@@ -13,6 +13,7 @@
 
 #include "mesh_io/file_name.h"
 #include "mesh_io/read_mesh_internal.h"
+#include "mesh_io/regular_file.h"
 
 namespace texbake {
 namespace fs = std::filesystem;
@@ -252,10 +253,8 @@ Status validate(const fs::path& path, const MeshData& mesh) {
 }  // namespace
 
 Expected<LoadedMesh> read_mesh(const fs::path& path) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (ec || !fs::exists(st)) return io_error(path, "no such file");
-  if (fs::is_directory(st)) return io_error(path, "is a folder, not a mesh file");
+  // Before anything opens it: a FIFO would block, a device never end.
+  if (Status s = check_regular_file(path, "a mesh file"); !s) return s.error();
   const std::string ext = lower_extension(path);
   Expected<MeshData> (*reader)(const fs::path&, std::string_view) = nullptr;
   if (ext == ".ply") {

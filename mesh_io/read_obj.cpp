@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "mesh_io/read_mesh_internal.h"
+#include "mesh_io/regular_file.h"
 #include "mesh_io/text_scan.h"
 
 namespace texbake::read_detail {
@@ -33,7 +34,8 @@ namespace {
 // - f: every corner is v, v/t, v/t/n or v//n with integer parts, v present;
 //   an index is 1-based, positive ones within the file's count of its kind,
 //   negative ones within the count so far (OBJ's relative indices);
-// - mtllib: the file named, if it exists, is a regular file.
+// - mtllib: the file named, if it exists, is a regular file of at most
+//   kMaxTextFileBytes (OpenMesh reads it whole, line by line).
 // Returns the number of `v` lines.
 Expected<std::size_t> check_obj(const fs::path& path, std::string_view text) {
   struct Counts {
@@ -75,10 +77,19 @@ Expected<std::size_t> check_obj(const fs::path& path, std::string_view text) {
     if (t[0] == "vn") ++so_far.vn;
     if (t[0] == "mtllib") {
       const std::string_view rest = trim(line.substr(line.find("mtllib") + 6));
+      // OpenMesh opens it as the OBJ's folder + the name; a missing library
+      // is only a missing texture (OpenMesh warns).
+      const fs::path lib = dir + "/" + std::string(rest);
       std::error_code ec;
-      const fs::file_status st = fs::status(dir + "/" + std::string(rest), ec);
-      if (!ec && fs::exists(st) && !fs::is_regular_file(st)) {
-        return fail(no, "material library '" + std::string(rest) + "' is not a regular file");
+      if (fs::exists(lib, ec)) {
+        if (Status s = check_text_file(lib, "a material library"); !s) {
+          // kIo: not a regular file; kParse: over the size limit.
+          return fail(no, "material library '" + std::string(rest) + "' " +
+                              (s.error().code == ErrorCode::kIo
+                                   ? std::string("is not a regular file")
+                                   : "is larger than texbake reads (" +
+                                         std::to_string(kMaxTextFileBytes >> 20) + " MiB)"));
+        }
       }
     }
     if (t[0] != "f") return true;
