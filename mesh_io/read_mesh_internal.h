@@ -13,7 +13,10 @@
 //   text_scan.h        the shared tokenizer, number parsing, line counting.
 #pragma once
 
+#include <bit>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -22,6 +25,7 @@
 #include <vector>
 
 #include "mapping/error.h"
+#include "mesh_io/byte_order.h"
 #include "mesh_io/mesh_data.h"
 
 namespace texbake::read_detail {
@@ -35,6 +39,14 @@ inline constexpr std::size_t kMaxFaceCorners = 16384;
 
 // "has N corners; texbake reads polygons of at most 16384".
 std::string too_many_corners(std::size_t n);
+
+// The little-endian uint32 at `p` (binary OFF and STL).
+inline uint32_t load_le32(const char* p) {
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  if constexpr (std::endian::native == std::endian::big) v = byte_swap(v);
+  return v;
+}
 
 // kParse with the message "PATH: what".
 Error parse_error(const std::filesystem::path& path, const std::string& what);

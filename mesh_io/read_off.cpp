@@ -11,12 +11,9 @@
 // after check_off_binary has walked the file exactly as OpenMesh will read it.
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
-#include <cstring>
 #include <optional>
 
-#include "mesh_io/byte_order.h"
 #include "mesh_io/read_mesh_internal.h"
 #include "mesh_io/text_scan.h"
 
@@ -46,13 +43,6 @@ std::optional<OffKeyword> off_keyword(std::string_view tok) {
   take("n", k.high_dimension);
   if (!p.empty()) return std::nullopt;
   return k;
-}
-
-inline uint32_t load_le32(const char* p) {
-  uint32_t v;
-  std::memcpy(&v, p, 4);
-  if constexpr (std::endian::native == std::endian::big) v = byte_swap(v);
-  return v;
 }
 
 // Walks a binary OFF as OpenMesh's read_binary does (little-endian 32-bit

@@ -33,11 +33,9 @@
 #include <bit>
 #include <cctype>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <map>
 
-#include "mesh_io/byte_order.h"
 #include "mesh_io/read_mesh_internal.h"
 #include "mesh_io/text_scan.h"
 
@@ -49,10 +47,7 @@ namespace {
 constexpr std::size_t kBinaryHeader = 84, kBinaryTriangle = 50;
 
 uint32_t binary_count(std::string_view bytes) {
-  uint32_t count = 0;
-  std::memcpy(&count, bytes.data() + 80, 4);
-  if constexpr (std::endian::native == std::endian::big) count = byte_swap(count);
-  return count;
+  return load_le32(bytes.data() + 80);
 }
 
 bool same_keyword(std::string_view tok, std::string_view keyword) {
@@ -230,10 +225,7 @@ Status check_binary(const fs::path& path, std::string_view bytes) {
   for (uint32_t t = 0; t < count; ++t) {
     const char* corners = bytes.data() + kBinaryHeader + kBinaryTriangle * t + 12;
     for (int k = 0; k < 9; ++k) {
-      uint32_t u;
-      std::memcpy(&u, corners + 4 * k, 4);
-      if constexpr (std::endian::native == std::endian::big) u = byte_swap(u);
-      const float x = std::bit_cast<float>(u);
+      const float x = std::bit_cast<float>(load_le32(corners + 4 * k));
       if (!std::isfinite(x)) {
         return parse_error(path, "binary STL triangle " + std::to_string(t) + " vertex " +
                                      std::to_string(k / 3) + " has a non-finite coordinate (" +
