@@ -10,6 +10,7 @@
 
 #include "mapping/sample.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/regular_file.h"
 
 namespace texbake {
 namespace fs = std::filesystem;
@@ -53,11 +54,10 @@ Status check_image_size(long long width, long long height, int channels) {
 }
 
 Expected<Image> read_image(const fs::path& path) {
+  // Before OIIO opens it: a FIFO would block, a device never end.
+  if (Status s = check_regular_file(path, "an image"); !s) return s.error();
   std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (ec || !fs::exists(st)) return image_error(ErrorCode::kIo, path, "no such file");
-  if (fs::is_directory(st)) return image_error(ErrorCode::kIo, path, "is a folder, not an image");
-  if (fs::is_regular_file(st) && fs::file_size(path, ec) == 0) {
+  if (fs::file_size(path, ec) == 0) {
     return image_error(ErrorCode::kParse, path, "the file is empty (0 bytes)");
   }
   // Keep the stored values (SPEC section 1): without this OIIO premultiplies
