@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "mesh_io/image_io.h"
+#include "mesh_io/proxy_json.h"
 #include "mesh_io/read_mesh.h"
 #include "tests/mesh_io/test_files.h"
 
@@ -149,6 +150,22 @@ TEST_F(RegularFile, FifoAsImageIsRefusedBeforeOpening) {
   ASSERT_FALSE(img.has_value());
   expect_not_regular(img.error(), f, "a FIFO");
   EXPECT_NE(img.error().message.find("cannot be read as an image"), std::string::npos);
+}
+
+TEST_F(RegularFile, FifoOrDevZeroAsProxyFileIsRefused) {
+  const fs::path f = fifo("pipe.json");
+  {
+    FifoWatchdog watchdog(f);
+    Expected<Proxy> p = read_proxy_file(f);
+    ASSERT_FALSE(p.has_value());
+    expect_not_regular(p.error(), f, "a FIFO");
+    EXPECT_NE(p.error().message.find("cannot be read as a proxy file"), std::string::npos);
+  }
+  // Read until memory ran out before the check.
+  const fs::path zero = link_to_dev_zero("zero.json");
+  Expected<Proxy> p = read_proxy_file(zero);
+  ASSERT_FALSE(p.has_value());
+  expect_not_regular(p.error(), zero, "a character device");
 }
 
 TEST_F(RegularFile, LinkToDevZeroAsImageIsRefused) {
