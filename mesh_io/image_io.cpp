@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include "mapping/sample.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/regular_file.h"
 
@@ -165,18 +164,6 @@ Expected<Image> read_image(const fs::path& path) {
   in->close();
   img.nonfinite_values = nonfinite;
   return img;
-}
-
-void srgb_to_linear_in_place(Image& image) {
-  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
-    for (int k = 0; k < 3; ++k) image.pixels[i + k] = srgb_to_linear(image.pixels[i + k]);
-  }
-}
-
-void linear_to_srgb_in_place(Image& image) {
-  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
-    for (int k = 0; k < 3; ++k) image.pixels[i + k] = linear_to_srgb(image.pixels[i + k]);
-  }
 }
 
 namespace {

@@ -61,11 +61,10 @@ inline constexpr long long kMaxImagePixels = 1ll << 28;
 inline constexpr long long kMaxImageValues = 1ll << 30;
 Status check_image_size(long long width, long long height, int channels);
 
-// sRGB -> linear (mapping/sample.h's srgb_to_linear) on R, G, B of every
-// pixel; alpha is left alone. For `--linear` (SPEC section 1).
-void srgb_to_linear_in_place(Image& image);
-// The inverse, linear -> sRGB on R, G, B.
-void linear_to_srgb_in_place(Image& image);
+// The largest side of a square texture atlas texbake bakes or lays out
+// (SPEC section 4 / issue #4): the largest square image read_image reads back.
+inline constexpr int kMaxAtlasSize = 16384;
+static_assert(static_cast<long long>(kMaxAtlasSize) * kMaxAtlasSize == kMaxImagePixels);
 
 enum class ImageBitDepth {
   k8,      // PNG default
