@@ -333,23 +333,17 @@ TEST(RenderPreview, PlaneWrapIsIgnoredByTheOtherProxies) {
   EXPECT_TRUE(clamp->pixels == repeat->pixels);  // bit for bit
 }
 
-TEST(RenderPreview, LinearProjectionInterpolatesInLinearLight) {
+TEST_F(PlaneProjection, LinearInterpolatesInLinearLight) {
   // 2 x 1: red 0 and 1, green .5 in both. At (u, v) = (0.5, 0.5) (x = 0.5),
   // halfway: stored-value red .5; in linear light (0 + 1) / 2 = .5, encoded
   // back to sRGB 1.055 * 0.5^(1/2.4) - 0.055 = 0.7353570. Green stays .5.
   const std::vector<float> texels = {0, 0.5f, 0, 1, 1, 0.5f, 0, 1};
-  const MeshData quad = facing_quad();
-  const EmbreeScene scene = build_scene(quad);
-  RenderOptions o;
-  o.width = o.height = 65;
-  o.elevation_deg = 0;
-  o.phong = albedo_only();
   auto plane = make_proxy(PlaneParams{{-1, 0, -1}, {2, 0, 0}, {0, 0, 2}});
   ASSERT_TRUE(plane.has_value());
   ProjectionSource src{*plane, {2, 1, texels.data()}, std::nullopt};
-  auto stored = render_preview(quad, scene, src, o);
+  auto stored = render_preview(quad_, scene_, src, options_);
   src.linear = true;
-  auto linear = render_preview(quad, scene, src, o);
+  auto linear = render_preview(quad_, scene_, src, options_);
   ASSERT_TRUE(stored.has_value() && linear.has_value());
   EXPECT_NEAR(stored->pixel(32, 32)[0], 0.5f, 1e-5);
   EXPECT_NEAR(linear->pixel(32, 32)[0], 0.7353570f, 1e-5);
