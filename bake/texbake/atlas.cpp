@@ -83,15 +83,10 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
     if (progress.cancelled()) return cancelled_error();  // a false at the very end counts too
     atlas.image = std::move(baked->atlas);
     Counts& c = atlas.stats.counts;
-    c = detail::mesh_counts(mesh);
-    const AtlasBakeCounts& b = baked->counts;
-    c.texels = b.texels;
-    c.samples = b.samples;
-    c.border_samples = b.border_samples;
-    c.occluded = b.occluded;
-    c.undefined = b.undefined;
-    c.outside = b.outside;
-    c.padded = b.padded;
+    c = detail::bake_counts(mesh, baked->counts);
+    c.texels = baked->counts.texels;
+    c.border_samples = baked->counts.border_samples;
+    c.padded = baked->counts.padded;
     t.rasterize = baked->timings.rasterize;
     t.scene_build = baked->timings.scene_build;
     t.bake = baked->timings.sample;

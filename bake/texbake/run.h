@@ -40,6 +40,19 @@ Error as_input(Error error);
 // `mesh` (as read_mesh counts them in MeshIssues).
 Counts mesh_counts(const MeshData& mesh);
 
+// mesh_counts(mesh) with the sample figures every bake counts alike
+// (samples, occluded, undefined, outside) from its own counts `b`
+// (VertexBakeCounts, AtlasBakeCounts).
+template <class BakeCounts>
+Counts bake_counts(const MeshData& mesh, const BakeCounts& b) {
+  Counts c = mesh_counts(mesh);
+  c.samples = b.samples;
+  c.occluded = b.occluded;
+  c.undefined = b.undefined;
+  c.outside = b.outside;
+  return c;
+}
+
 // kUsage "the image has no pixels" for an empty view.
 Status check_image(const ImageView& image);
 

@@ -35,14 +35,9 @@ Expected<VertexColors> bake(const MeshData& mesh, const ImageView& image, const 
     VertexColors out;
     out.colors = std::move(baked->colors);
     Counts& c = out.stats.counts;
-    c = detail::mesh_counts(mesh);
-    const VertexBakeCounts& b = baked->counts;
-    c.samples = b.samples;
-    c.occluded = b.occluded;
-    c.undefined = b.undefined;
-    c.outside = b.outside;
-    c.filled = b.filled;
-    c.unfilled = b.unfilled;
+    c = detail::bake_counts(mesh, baked->counts);
+    c.filled = baked->counts.filled;
+    c.unfilled = baked->counts.unfilled;
     Timings& t = out.stats.timings;
     t.scene_build = baked->timings.scene_build;
     t.bake = baked->timings.bake;

@@ -30,20 +30,11 @@ using Keys = std::vector<std::string>;
 
 class BakeReport : public ::testing::Test {
  protected:
-  fs::path dir =
-      fs::temp_directory_path() / ("texbake_report_cli_" + std::to_string(::getpid()) + "_" +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::path image, off, obj;
+  fs::path dir = texbake::testing_cli::fresh_test_dir("report_cli");
+  fs::path image = dir / "tex.ppm", off, obj;
 
   void SetUp() override {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    image = dir / "tex.ppm";
-    std::ofstream t(image, std::ios::binary);
-    t << "P6\n2 2\n255\n";
-    const unsigned char px[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
-    t.write(reinterpret_cast<const char*>(px), 12);
-    t.close();
+    texbake::testing_cli::write_ppm(image, 2, 2, {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255});
     // The unit square as 2 x 2 cells (9 vertices, 8 triangles), a vertex in
     // no face (9) and a face repeating a vertex (one degenerate triangle).
     off = dir / "square.off";

@@ -37,18 +37,10 @@ const DegenerateMesh kMeshes[] = {
 
 class DegenerateMeshCli : public ::testing::Test {
  protected:
-  fs::path dir =
-      fs::temp_directory_path() / ("texbake_degenerate_cli_" + std::to_string(::getpid()) + "_" +
-                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::path image;
+  fs::path dir = texbake::testing_cli::fresh_test_dir("degenerate_cli");
+  fs::path image = dir / "tex.ppm";
   void SetUp() override {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    image = dir / "tex.ppm";
-    std::ofstream t(image, std::ios::binary);
-    t << "P6\n2 1\n255\n";
-    const unsigned char px[6] = {255, 128, 0, 0, 128, 255};
-    t.write(reinterpret_cast<const char*>(px), 6);
+    texbake::testing_cli::write_ppm(image, 2, 1, {255, 128, 0, 0, 128, 255});
   }
   void TearDown() override { fs::remove_all(dir); }
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "mesh_io/image_compare.h"
+#include "tests/cli/run_texbake.h"
 
 namespace {
 
@@ -19,10 +20,7 @@ namespace fs = std::filesystem;
 class RenderCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("texbake_render_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    dir_ = texbake::testing_cli::fresh_test_dir("render_cli");
     // An octahedron: small, closed, every view sees it.
     mesh_ = dir_ / "octa.off";
     std::ofstream(mesh_) << "OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n"
@@ -30,10 +28,7 @@ class RenderCli : public ::testing::Test {
                             "3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n";
     // A 2x1 texture for direct projection (binary PPM).
     texture_ = dir_ / "tex.ppm";
-    std::ofstream t(texture_, std::ios::binary);
-    t << "P6\n2 1\n255\n";
-    const unsigned char px[6] = {255, 128, 0, 0, 128, 255};
-    t.write(reinterpret_cast<const char*>(px), 6);
+    texbake::testing_cli::write_ppm(texture_, 2, 1, {255, 128, 0, 0, 128, 255});
   }
   void TearDown() override { fs::remove_all(dir_); }
 

@@ -2,6 +2,7 @@
 // code, stdout and stderr, for the CLI tests.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace texbake::testing_cli {
 
@@ -31,6 +33,27 @@ inline std::string slurp(const std::filesystem::path& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// A fresh, empty folder for the running test:
+// TMP/texbake_<prefix>_<pid>_<test name>. The caller removes it.
+inline std::filesystem::path fresh_test_dir(const std::string& prefix) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      ("texbake_" + prefix + "_" + std::to_string(::getpid()) + "_" +
+       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+// Writes a binary PPM (P6) of w x h pixels, `rgb` holding 3 bytes per pixel,
+// top row first: a small texture any image reader takes.
+inline void write_ppm(const std::filesystem::path& path, int w, int h,
+                      const std::vector<unsigned char>& rgb) {
+  std::ofstream out(path, std::ios::binary);
+  out << "P6\n" << w << " " << h << "\n255\n";
+  out.write(reinterpret_cast<const char*>(rgb.data()), static_cast<std::streamsize>(rgb.size()));
 }
 
 inline RunResult run_texbake(const std::string& args_quoted) {

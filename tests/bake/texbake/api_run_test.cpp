@@ -18,7 +18,7 @@ namespace {
 // Records every call of a progress callback; cancels (returns false) once
 // a fraction of `cancel_stage` reaches `cancel_at`.
 struct Recorder {
-  std::string cancel_stage;
+  std::string cancel_stage = "";
   double cancel_at = 2;  // > 1: never cancels
 
   std::mutex mutex;
@@ -48,6 +48,14 @@ struct Recorder {
     };
   }
 
+  // RunOptions of `threads` threads reporting to this recorder.
+  RunOptions run(int threads = 0) {
+    RunOptions r;
+    r.threads = threads;
+    r.progress = callback();
+    return r;
+  }
+
   // The fractions of each stage, in call order.
   std::map<std::string, std::vector<double>> by_stage() const {
     std::map<std::string, std::vector<double>> out;
@@ -55,6 +63,13 @@ struct Recorder {
     return out;
   }
 };
+
+// A call cancelled by `r`'s false: kCancelled, and no call after the false.
+void expect_cancelled(const Error& error, const Recorder& r) {
+  EXPECT_EQ(error.code, ErrorCode::kCancelled) << error.message;
+  EXPECT_EQ(category(error), ErrorCategory::kCancelled);
+  EXPECT_EQ(r.calls_after_false, 0) << "the callback is not called after it said false";
+}
 
 void expect_well_formed(const Recorder& r, const std::vector<std::string>& stages) {
   EXPECT_FALSE(r.overlapped) << "the callback was called concurrently with itself";
@@ -76,8 +91,7 @@ TEST(ApiProgress, VertexBakeReportsBakeThenFillMonotonically) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
   Recorder rec;
-  RunOptions run;
-  run.progress = rec.callback();
+  const RunOptions run = rec.run();
   Expected<VertexColors> baked =
       bake_vertex_colors(be->mesh, be->earth.view(), be->proxy, VertexBakeOptions{}, run);
   ASSERT_TRUE(baked) << baked.error().message;
@@ -97,8 +111,7 @@ TEST(ApiProgress, AtlasBakeReportsLayoutThenSamples) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
   Recorder rec;
-  RunOptions run;
-  run.progress = rec.callback();
+  const RunOptions run = rec.run();
   AtlasOptions options;
   options.bake.size = 256;
   Expected<Atlas> atlas = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, run);
@@ -111,8 +124,7 @@ TEST(ApiProgress, RenderReportsItsTiles) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
   Recorder rec;
-  RunOptions run;
-  run.progress = rec.callback();
+  const RunOptions run = rec.run();
   Expected<Rendered> r = render_mesh(be->mesh, GreySource{}, test::bunny_view(64, 1), run);
   ASSERT_TRUE(r) << r.error().message;
   expect_well_formed(rec, {"render"});
@@ -122,18 +134,11 @@ TEST(ApiCancel, FalseAtHalfOfTheBakeCancelsTheVertexBake) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
   for (int threads : {1, 2}) {
-    Recorder rec;
-    rec.cancel_stage = "bake";
-    rec.cancel_at = 0.5;
-    RunOptions run;
-    run.threads = threads;
-    run.progress = rec.callback();
+    Recorder rec{"bake", 0.5};
     Expected<VertexColors> baked =
-        bake_vertex_colors(be->mesh, be->earth.view(), be->proxy, VertexBakeOptions{}, run);
+        bake_vertex_colors(be->mesh, be->earth.view(), be->proxy, {}, rec.run(threads));
     ASSERT_FALSE(baked) << threads << " threads: the bake was not cancelled";
-    EXPECT_EQ(baked.error().code, ErrorCode::kCancelled);
-    EXPECT_EQ(category(baked.error()), ErrorCategory::kCancelled);
-    EXPECT_EQ(rec.calls_after_false, 0) << "the callback is not called after it said false";
+    expect_cancelled(baked.error(), rec);
     EXPECT_EQ(rec.by_stage().count("fill"), 0u) << "the fill must not run after a cancel";
     // It stopped at (about) half: the last fraction heard is below 1.
     EXPECT_LT(rec.calls.back().second, 1.0);
@@ -143,33 +148,26 @@ TEST(ApiCancel, FalseAtHalfOfTheBakeCancelsTheVertexBake) {
 TEST(ApiCancel, FalseAtHalfOfTheSamplesCancelsTheAtlasBake) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
-  Recorder rec;
-  rec.cancel_stage = "sample";
-  rec.cancel_at = 0.5;
-  RunOptions run;
-  run.progress = rec.callback();
+  Recorder rec{"sample", 0.5};
   AtlasOptions options;
   options.bake.size = 256;  // 16 bands of 16 rows
-  Expected<Atlas> atlas = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, run);
+  Expected<Atlas> atlas =
+      bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, rec.run());
   ASSERT_FALSE(atlas) << "the atlas bake was not cancelled";
-  EXPECT_EQ(category(atlas.error()), ErrorCategory::kCancelled);
-  EXPECT_EQ(rec.calls_after_false, 0);
+  expect_cancelled(atlas.error(), rec);
   EXPECT_LT(rec.calls.back().second, 1.0);
 }
 
 TEST(ApiCancel, FalseAtTheStartOfTheLayoutCancelsBeforeTheBake) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
-  Recorder rec;
-  rec.cancel_stage = "uv_layout";
-  rec.cancel_at = 0;
-  RunOptions run;
-  run.progress = rec.callback();
+  Recorder rec{"uv_layout", 0};
   AtlasOptions options;
   options.bake.size = 64;
-  Expected<Atlas> atlas = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, run);
+  Expected<Atlas> atlas =
+      bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, rec.run());
   ASSERT_FALSE(atlas);
-  EXPECT_EQ(atlas.error().code, ErrorCode::kCancelled);
+  expect_cancelled(atlas.error(), rec);
   ASSERT_EQ(rec.calls.size(), 1u) << "nothing after the refused start";
 }
 
@@ -178,14 +176,10 @@ TEST(ApiCancel, FalseAtTheLastCallStillCancels) {
   // cancels too: the call never returns a result after a false.
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
-  Recorder rec;
-  rec.cancel_stage = "render";
-  rec.cancel_at = 1.0;
-  RunOptions run;
-  run.progress = rec.callback();
-  Expected<Rendered> r = render_mesh(be->mesh, GreySource{}, test::bunny_view(32, 1), run);
+  Recorder rec{"render", 1.0};
+  Expected<Rendered> r = render_mesh(be->mesh, GreySource{}, test::bunny_view(32, 1), rec.run());
   ASSERT_FALSE(r);
-  EXPECT_EQ(r.error().code, ErrorCode::kCancelled);
+  expect_cancelled(r.error(), rec);
 }
 
 TEST(ApiThreads, ResultsAreIdenticalWithOneAndTwoThreads) {
@@ -223,10 +217,7 @@ TEST(ApiThreads, OneThreadRunsEveryStageOnTheCallingThread) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
   Recorder rec;
-  RunOptions run;
-  run.threads = 1;
-  run.progress = rec.callback();
-  ASSERT_TRUE(bake_vertex_colors(be->mesh, be->earth.view(), be->proxy, {}, run));
+  ASSERT_TRUE(bake_vertex_colors(be->mesh, be->earth.view(), be->proxy, {}, rec.run(1)));
   ASSERT_FALSE(rec.threads.empty());
   for (std::thread::id id : rec.threads) EXPECT_EQ(id, std::this_thread::get_id());
 }
