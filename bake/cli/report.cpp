@@ -116,19 +116,15 @@ std::string report_json(const BakeReport& r) {
   c["triangles"] = counts.triangles;
   c["degenerate_skipped"] = counts.degenerate_triangles;
   c["unreferenced_vertices"] = counts.unreferenced_vertices;
+  if (atlas) c["texels"] = counts.texels;
+  c["samples"] = counts.samples;
+  c["occluded"] = counts.occluded;
+  c["undefined"] = counts.undefined;
+  c["outside"] = counts.outside;
   if (atlas) {
-    c["texels"] = counts.texels;
-    c["samples"] = counts.samples;
-    c["occluded"] = counts.occluded;
-    c["undefined"] = counts.undefined;
-    c["outside"] = counts.outside;
     c["padded"] = counts.padded;
     j["atlas"] = atlas_json(*r.atlas, r.stats, r.write);
   } else {
-    c["samples"] = counts.samples;
-    c["occluded"] = counts.occluded;
-    c["undefined"] = counts.undefined;
-    c["outside"] = counts.outside;
     c["filled"] = counts.filled;
     c["unfilled"] = counts.unfilled;
   }

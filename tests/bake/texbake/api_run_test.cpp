@@ -71,6 +71,15 @@ void expect_cancelled(const Error& error, const Recorder& r) {
   EXPECT_EQ(r.calls_after_false, 0) << "the callback is not called after it said false";
 }
 
+// The bunny's atlas of `size` through the API.
+Expected<Atlas> bunny_atlas(int size, const RunOptions& run) {
+  const test::BunnyEarth* be = test::bunny_earth();
+  if (!be) return make_error(ErrorCode::kIo, "no bunny");
+  AtlasOptions options;
+  options.bake.size = size;
+  return bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, run);
+}
+
 void expect_well_formed(const Recorder& r, const std::vector<std::string>& stages) {
   EXPECT_FALSE(r.overlapped) << "the callback was called concurrently with itself";
   const auto by_stage = r.by_stage();
@@ -112,9 +121,7 @@ TEST(ApiProgress, AtlasBakeReportsLayoutThenSamples) {
   ASSERT_TRUE(be);
   Recorder rec;
   const RunOptions run = rec.run();
-  AtlasOptions options;
-  options.bake.size = 256;
-  Expected<Atlas> atlas = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, run);
+  Expected<Atlas> atlas = bunny_atlas(256, run);
   ASSERT_TRUE(atlas) << atlas.error().message;
   expect_well_formed(rec, {"uv_layout", "sample"});
   EXPECT_EQ(rec.calls.front().first, "uv_layout");
@@ -149,10 +156,7 @@ TEST(ApiCancel, FalseAtHalfOfTheSamplesCancelsTheAtlasBake) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
   Recorder rec{"sample", 0.5};
-  AtlasOptions options;
-  options.bake.size = 256;  // 16 bands of 16 rows
-  Expected<Atlas> atlas =
-      bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, rec.run());
+  Expected<Atlas> atlas = bunny_atlas(256, rec.run());  // 16 bands of 16 rows
   ASSERT_FALSE(atlas) << "the atlas bake was not cancelled";
   expect_cancelled(atlas.error(), rec);
   EXPECT_LT(rec.calls.back().second, 1.0);
@@ -162,10 +166,7 @@ TEST(ApiCancel, FalseAtTheStartOfTheLayoutCancelsBeforeTheBake) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
   Recorder rec{"uv_layout", 0};
-  AtlasOptions options;
-  options.bake.size = 64;
-  Expected<Atlas> atlas =
-      bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, options, rec.run());
+  Expected<Atlas> atlas = bunny_atlas(64, rec.run());
   ASSERT_FALSE(atlas);
   expect_cancelled(atlas.error(), rec);
   ASSERT_EQ(rec.calls.size(), 1u) << "nothing after the refused start";
@@ -195,10 +196,8 @@ TEST(ApiThreads, ResultsAreIdenticalWithOneAndTwoThreads) {
   EXPECT_TRUE(v1->colors == v2->colors);
   EXPECT_EQ(v1->stats.counts.occluded, v2->stats.counts.occluded);
 
-  AtlasOptions ao;
-  ao.bake.size = 128;
-  Expected<Atlas> a1 = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, ao, one);
-  Expected<Atlas> a2 = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, ao, two);
+  Expected<Atlas> a1 = bunny_atlas(128, one);
+  Expected<Atlas> a2 = bunny_atlas(128, two);
   ASSERT_TRUE(a1 && a2);
   EXPECT_TRUE(a1->image.pixels == a2->image.pixels);
   EXPECT_TRUE(a1->mesh.uvs.size() == a2->mesh.uvs.size());
