@@ -15,6 +15,7 @@ enum class ErrorCode {
   kIo,               // a file cannot be opened, read or written: exit 1
   kUnsupported,      // a valid request texbake cannot do (e.g. PLY with an atlas): exit 2
   kInternal,         // a library failed unexpectedly: exit 1
+  kCancelled,        // a progress callback asked to stop (texbake/texbake.h): exit 1
 };
 
 struct Error {

@@ -257,6 +257,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   const bool fill_first =
       sh.occluded == OccludedMode::kFill && sh.visibility == Visibility::kFirst && !bands.empty();
   if (fill_first) {
+    if (is_cancelled(progress)) return cancelled_error();
     t0 = Clock::now();
     Expected<std::vector<Rgba>> vc = fill_colors_for();
     if (!vc) return vc.error();
@@ -316,8 +317,9 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   std::atomic<int64_t> raster_ns{0}, sample_ns{0};
   std::mutex deferred_mutex;
   std::vector<Deferred> deferred;
-  if (progress) progress->start("atlas", static_cast<std::size_t>(n));
+  if (progress) progress->start("sample", static_cast<std::size_t>(n));
   parallel_for_chunks(bands.band_count(), 1, [&](std::size_t band_begin, std::size_t band_end) {
+    if (is_cancelled(progress)) return;
     Worker w;
     int64_t r_ns = 0, s_ns = 0;
     std::size_t t_count = 0, b_count = 0;
@@ -351,6 +353,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
       deferred.push_back(std::move(w.deferred));
     }
   });
+  if (is_cancelled(progress)) return cancelled_error();
   if (progress) progress->finish();
   scene.reset();
   result.counts.texels = texels.load();

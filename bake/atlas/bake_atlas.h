@@ -86,7 +86,9 @@ struct AtlasBakeResult {
 // triangles. Preconditions: image has at least 1 x 1 pixel. Errors: those of
 // rasterize_atlas (bad size or samples, no UVs, bad UVs), kInvalidArgument
 // for a negative padding other than the constants, kInternal (Embree or the
-// fill solver failed). progress may be null.
+// fill solver failed), kCancelled (progress's callback returned false: the
+// remaining bands are skipped). progress may be null; it hears the stage
+// "sample" (the band pass).
 Expected<AtlasBakeResult> bake_atlas(const MeshData& uv_mesh, const ImageView& image,
                                      const Proxy& proxy, const AtlasBakeOptions& options,
                                      Progress* progress = nullptr);

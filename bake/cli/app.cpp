@@ -8,20 +8,31 @@
 
 namespace texbake::cli {
 
-int report_error(ErrorCode code, const std::string& message) {
-  std::cerr << "texbake: error: " << message << "\n";
-  return (code == ErrorCode::kInvalidArgument || code == ErrorCode::kUnsupported) ? 2 : 1;
+int exit_code(const Error& error) {
+  return category(error) == ErrorCategory::kUsage ? 2 : 1;
 }
 
 int report_error(const Error& error) {
-  return report_error(error.code, error.message);
+  std::cerr << "texbake: error: " << error.message << "\n";
+  return exit_code(error);
+}
+
+int report_error(ErrorCode code, const std::string& message) {
+  return report_error(make_error(code, message));
+}
+
+int report_mesh_error(const Error& error, const std::string& mesh) {
+  if (category(error) != ErrorCategory::kInput || error.message.find(mesh) != std::string::npos) {
+    return report_error(error);
+  }
+  return report_error(make_error(error.code, mesh + ": " + error.message));
 }
 
 std::unique_ptr<CliApp> make_cli_app() {
   auto cli = std::make_unique<CliApp>();
   CLI::App& app = cli->app;
   app.require_subcommand(1);
-  app.set_version_flag("--version", "texbake 0.1.0");
+  app.set_version_flag("--version", std::string("texbake ") + texbake::version());
   auto add = [&](RunFunction (*adder)(CLI::App&)) {
     const std::size_t before = app.get_subcommands({}).size();
     RunFunction run = adder(app);
@@ -67,7 +78,7 @@ int run_parsed(CliApp& cli) {
   try {
     return cli.runs.at(sub)();
   } catch (const std::bad_alloc&) {
-    return report_error(texbake::ErrorCode::kIo, "out of memory");
+    return report_error(texbake::ErrorCode::kInternal, "out of memory");
   } catch (const std::exception& e) {
     return report_error(texbake::ErrorCode::kInternal,
                         std::string("unexpected failure: ") + e.what());

@@ -4,13 +4,12 @@
 // Parse -> validate every flag (exit 2) -> check the outputs are writable
 // (exit 1) -> load the mesh -> resolve the proxy (geometry flags not given
 // are fitted, bake/cli/fit_geometry.h) -> load the image -> bake (vertex:
-// bake/bake_vertex.h; atlas: bake/cli/atlas_target.h) -> write atomically.
+// bake_vertex_colors; atlas: bake_atlas_texture, texbake/texbake.h) ->
+// write atomically (write_vertex_colors, write_atlas).
 // Bad flag values are rejected (exit 2), never clamped; flags of the other
 // target are rejected too rather than silently ignored. Outputs are written
 // atomically, so a failure never leaves a file behind.
 #include <algorithm>
-#include <cctype>
-#include <chrono>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -25,18 +24,11 @@
 #include "bake/cli/commands.h"
 #include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
+#include "bake/cli/progress_bar.h"
 #include "bake/cli/report.h"
-#include "bake/shade/options.h"
-#include "bake/util/parallel.h"
-#include "bake/util/progress.h"
 #include "bake/util/timing.h"
-#include "bake/vertex/bake_vertex.h"
 #include "mesh_io/atomic_file.h"
-#include "mesh_io/file_name.h"
-#include "mesh_io/image_io.h"
-#include "mesh_io/read_mesh.h"
-#include "mesh_io/write_mesh.h"
-#include "mesh_io/write_textured.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 
@@ -121,17 +113,6 @@ void add_keyword_or_color(CLI::App& cmd, const std::string& flag, KeywordOrColor
                                        : keywords[0] + "|" + keywords[1] + "|R,G,B[,A]");
 }
 
-// After the usage checks, an error from the work itself is the work failing
-// on this input (exit 1, SPEC section 5), whatever code the library gave it
-// (e.g. "zero total area" from UV generation); the message names the mesh.
-int report_work_error(const Error& error, const std::string& mesh) {
-  if (error.code != ErrorCode::kInvalidArgument && error.code != ErrorCode::kUnsupported) {
-    return report_error(error);
-  }
-  const bool named = error.message.find(mesh) != std::string::npos;
-  return report_error(ErrorCode::kParse, named ? error.message : mesh + ": " + error.message);
-}
-
 // "--a, --b" of the flags in `names` that were given on the command line.
 std::vector<std::string> given_flags(const CLI::App& cmd, const std::vector<std::string>& names) {
   std::vector<std::string> given;
@@ -174,7 +155,6 @@ Status check_wrap(const BakeCliOptions& o, std::optional<ProxyKind> kind) {
 }
 
 int run_bake(const BakeCliOptions& o) {
-  using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
 
   // ---- Usage checks (exit 2), before touching any file. ----
@@ -182,7 +162,6 @@ int run_bake(const BakeCliOptions& o) {
     return report_error(s.error());
   }
   const fs::path output = o.output;
-  const std::string ext = lower_extension(output);
   Expected<BakeTarget> target = resolve_target(o.atlas, output);
   if (!target) return report_error(target.error());
   const bool atlas = *target == BakeTarget::kAtlas;
@@ -195,16 +174,22 @@ int run_bake(const BakeCliOptions& o) {
                             (atlas ? "vertex" : "atlas") + " only (this bake's target is " +
                             (atlas ? "atlas" : "vertex") + ", writing " + o.output + ")");
   }
-  if (o.ascii && ext != ".ply") {
-    return report_error(ErrorCode::kInvalidArgument, "--ascii applies to .ply output only");
+  WriteOptions write_options = atlas_write_options(o.atlas);
+  write_options.ascii = o.ascii;
+  if (!atlas) {
+    if (Status s = validate_write(output, write_options, /*atlas=*/false); !s) {
+      return report_error(s.error());
+    }
   }
   if (Status s = check_wrap(o, o.geometry.kind); !s) return report_error(s.error());
   const VertexBakeOptions shading = shading_options(o);
-  AtlasBakeOptions atlas_opts;
+  AtlasOptions atlas_opts;
   if (atlas) {
-    Expected<AtlasBakeOptions> a = atlas_options(o.atlas, o.samples, shading, output);
+    Expected<AtlasOptions> a = atlas_options(o.atlas, o.samples, shading, output);
     if (!a) return report_error(a.error());
     atlas_opts = *a;
+  } else if (Status s = validate_options(shading); !s) {
+    return report_error(s.error());
   }
   // All geometry given (or a file): build and validate the proxy now, so a
   // bad value is reported before the long work. Otherwise the fit needs the
@@ -220,18 +205,19 @@ int run_bake(const BakeCliOptions& o) {
   }
 
   // ---- Outputs must be writable before the long work (exit 1). ----
-  if (Status s = check_writable(output); !s) return report_error(s.error());
-  if (atlas && ext == ".obj") {
-    for (const fs::path& p :
-         {fs::path(output).replace_extension(".mtl"), atlas_path_for(output, o.atlas.format)}) {
-      if (Status s = check_writable(p); !s) return report_error(s.error());
-    }
+  const std::vector<fs::path> outputs =
+      atlas ? atlas_files(output, write_options) : std::vector<fs::path>{output};
+  for (const fs::path& p : outputs) {
+    if (Status s = check_writable(p); !s) return report_error(s.error());
   }
   if (!o.report.empty()) {
     if (Status s = check_writable(o.report); !s) return report_error(s.error());
   }
 
-  ThreadLimit thread_limit(o.threads);
+  ProgressBar bar(!o.quiet && ProgressBar::stderr_is_terminal());
+  RunOptions run;
+  run.threads = o.threads;
+  run.progress = bar.callback();
   BakeReport report;
   report.mesh_path = o.mesh;
   report.texture_path = o.texture;
@@ -243,20 +229,22 @@ int run_bake(const BakeCliOptions& o) {
   auto stage_start = Clock::now();
   Expected<LoadedMesh> mesh = read_mesh(o.mesh);
   if (!mesh) return report_error(mesh.error());
-  report.timings.load = seconds_since(stage_start);
-  if (atlas && o.atlas.uv == UvSource::kMesh && !mesh->mesh.has_uvs()) {
+  report.load = seconds_since(stage_start);
+  if (atlas && o.atlas.uv == UvLayout::kMesh && !mesh->mesh.has_uvs()) {
     // The flag does not fit the given mesh: a usage error (exit 2).
     return report_error(
         ErrorCode::kInvalidArgument,
         "--uv mesh: " + o.mesh + " has no UV coordinates (use --uv generate or --uv proxy)");
   }
+  // Nothing to bake is the mesh's problem, reported before a fit's.
+  if (Status s = check_triangles(mesh->mesh); !s) return report_mesh_error(s.error(), o.mesh);
   if (!resolved) {
     stage_start = Clock::now();
     Expected<ResolvedProxy> fitted =
         resolve_proxy(o.geometry, mesh->mesh, o.mesh, o.quiet ? nullptr : &std::cerr);
     if (!fitted) return report_error(fitted.error());
     resolved = std::move(*fitted);
-    report.timings.fit = seconds_since(stage_start);
+    report.fit = seconds_since(stage_start);
   }
   const Proxy& proxy = resolved->proxy;
   report.proxy = params_of(proxy);
@@ -265,72 +253,47 @@ int run_bake(const BakeCliOptions& o) {
   stage_start = Clock::now();
   Expected<Image> image = read_image(o.texture);
   if (!image) return report_error(image.error());
-  report.timings.load += seconds_since(stage_start);
+  report.load += seconds_since(stage_start);
   report.image_width = image->width;
   report.image_height = image->height;
-  report.degenerate_skipped = mesh->issues.degenerate_triangles;
-  report.unreferenced_vertices = mesh->issues.unreferenced_vertices;
-  report.counts.vertices = mesh->mesh.positions.size();
-  report.counts.triangles = mesh->mesh.triangles.size();
 
-  Progress progress(!o.quiet && Progress::stderr_is_terminal());
   std::string what, written = o.output;  // the summary line: what was baked, where
   if (atlas) {
-    // ---- Atlas: UV layout, bake, pad, write (one call). ----
-    Expected<AtlasJobReport> job =
-        run_atlas_job(mesh->mesh, image->view(), proxy, o.atlas, atlas_opts, output, &progress);
-    if (!job) return report_work_error(job.error(), o.mesh);
-    for (const std::string& w : job->warnings) std::cerr << "texbake: warning: " << w << "\n";
-    report.atlas_counts = job->counts;
-    report.atlas_samples = atlas_opts.samples;
-    report.atlas_json = atlas_report_json(*job, atlas_opts);
-    report.timings.uv_layout = job->timings.uv_layout;
-    report.timings.rasterize = job->timings.rasterize;
-    report.timings.scene_build = job->timings.scene_build;
-    report.timings.sample = job->timings.sample;
-    report.timings.fill = job->timings.fill;
-    report.timings.pad = job->timings.pad;
-    report.timings.write = job->timings.write;
-    const AtlasBakeCounts& c = job->counts;
-    if (ext == ".obj") {
-      written += " (+ " + fs::path(output).replace_extension(".mtl").filename().string() + ", " +
-                 atlas_path_for(output, o.atlas.format).filename().string() + ")";
+    // ---- Atlas: UV layout, bake, pad; write. ----
+    Expected<Atlas> baked = bake_atlas_texture(mesh->mesh, image->view(), proxy, atlas_opts, run);
+    if (!baked) return report_mesh_error(baked.error(), o.mesh);
+    for (const std::string& w : baked->stats.warnings) {
+      std::cerr << "texbake: warning: " << w << "\n";
     }
+    const auto write_start = Clock::now();
+    if (Status s = write_atlas(output, *baked, write_options); !s) return report_error(s.error());
+    report.write = seconds_since(write_start);
+    report.stats = baked->stats;
+    report.atlas = AtlasReport{atlas_opts.bake, baked->uv};
+    if (outputs.size() == 3) {
+      written +=
+          " (+ " + outputs[1].filename().string() + ", " + outputs[2].filename().string() + ")";
+    }
+    const Counts& c = baked->stats.counts;
     char line[512];
     std::snprintf(line, sizeof line,
                   "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu occluded, %zu outside, "
                   "%zu padded)",
-                  atlas_opts.size, atlas_opts.size, job->uv_source.c_str(), c.texels, c.samples,
-                  c.occluded, c.outside, c.padded);
+                  atlas_opts.bake.size, atlas_opts.bake.size, to_string(baked->uv.used), c.texels,
+                  c.samples, c.occluded, c.outside, c.padded);
     what = line;
   } else {
-    // ---- Vertex: sample, free the image, fill, write. ----
-    Expected<VertexBakeStage> sampled =
-        bake_vertex_sample(mesh->mesh, image->view(), proxy, shading, &progress);
-    if (!sampled) return report_work_error(sampled.error(), o.mesh);
-    image = Image{};  // nothing reads the image any more: free it before the fill's peak
-    Expected<VertexBakeResult> baked = bake_vertex_finish(mesh->mesh, std::move(sampled).value());
-    if (!baked) return report_work_error(baked.error(), o.mesh);
-    report.counts = baked->counts;
-    report.timings.scene_build = baked->timings.scene_build;
-    report.timings.bake = baked->timings.bake;
-    report.timings.fill = baked->timings.fill;
-
+    // ---- Vertex: sample, free the image, fill; write. ----
+    Expected<VertexColors> baked =
+        bake_vertex_colors(mesh->mesh, std::move(*image), proxy, shading, run);
+    if (!baked) return report_mesh_error(baked.error(), o.mesh);
     const auto write_start = Clock::now();
-    if (ext == ".glb") {
-      if (Status s = write_vertex_color_glb(output, mesh->mesh, baked->colors); !s) {
-        return report_error(s.error());
-      }
-    } else {
-      MeshWriteOptions write_options;
-      write_options.ascii = o.ascii;
-      write_options.vertex_colors = baked->colors;
-      if (Status s = write_mesh(output, mesh->mesh, write_options); !s) {
-        return report_error(s.error());
-      }
+    if (Status s = write_vertex_colors(output, mesh->mesh, baked->colors, write_options); !s) {
+      return report_error(s.error());
     }
-    report.timings.write = seconds_since(write_start);
-    const VertexBakeCounts& c = baked->counts;
+    report.write = seconds_since(write_start);
+    report.stats = baked->stats;
+    const Counts& c = baked->stats.counts;
     char line[512];
     std::snprintf(line, sizeof line,
                   "baked %zu vertices (%zu occluded, %zu filled, %zu unfilled, %zu outside "
@@ -338,12 +301,12 @@ int run_bake(const BakeCliOptions& o) {
                   c.vertices, c.occluded, c.filled, c.unfilled, c.outside);
     what = line;
   }
-  report.timings.total = seconds_since(start);
+  report.total = seconds_since(start);
   if (!o.report.empty()) {
     if (Status s = write_report(o.report, report); !s) return report_error(s.error());
   }
   if (!o.quiet) {
-    std::printf("%s in %.2f s -> %s\n", what.c_str(), report.timings.total, written.c_str());
+    std::printf("%s in %.2f s -> %s\n", what.c_str(), report.total, written.c_str());
     std::fflush(stdout);
   }
   return 0;
@@ -379,7 +342,7 @@ RunFunction add_bake_command(CLI::App& app) {
          "--samples", [o](int n) { o->samples = n; },
          "vertex: samples per vertex for --filter area (default 16, 1..65536); atlas: "
          "supersamples per texel (default 4, 1..256)")
-      ->check(CLI::Range(1, 65536));
+      ->check(CLI::Range(1, kMaxVertexSamples));
 
   add_choice_option(*cmd, "--visibility", o->visibility,
                     {{"first", Visibility::kFirst}, {"all", Visibility::kAll}},

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bake/cli/commands.h"
-#include "mesh_io/image_compare.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 namespace {

@@ -10,8 +10,7 @@
 #include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
 #include "mesh_io/atomic_file.h"
-#include "mesh_io/proxy_json.h"
-#include "mesh_io/read_mesh.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 namespace {

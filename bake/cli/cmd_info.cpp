@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bake/cli/commands.h"
-#include "mesh_io/read_mesh.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 

@@ -1,7 +1,7 @@
 // texbake render MESH: a Phong-shaded, ray-traced preview (SPEC section 5;
 // bake/render_preview.h has the camera, lighting and sampling conventions).
 // Thin: parse -> options -> load -> (fit the geometry flags not given, as
-// bake does) -> one render_preview call -> atomic write.
+// bake does) -> one render_mesh call (texbake/texbake.h) -> atomic write.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,12 +17,8 @@
 #include "bake/cli/commands.h"
 #include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
-#include "bake/render/render_preview.h"
-#include "bake/trace/embree_scene.h"
-#include "bake/util/parallel.h"
 #include "mesh_io/atomic_file.h"
-#include "mesh_io/image_io.h"
-#include "mesh_io/read_mesh.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 namespace {
@@ -146,15 +142,14 @@ int run_render(const RenderArgs& args) {
   const std::filesystem::path output =
       args.output.empty() ? default_output(args.mesh) : std::filesystem::path(args.output);
   if (Status st = check_writable(output); !st) return report_error(st.error());
-  ThreadLimit limit(args.threads);
+  RunOptions run;
+  run.threads = args.threads;
 
   auto loaded = read_mesh(args.mesh);
   if (!loaded) return report_error(loaded.error());
   const MeshData& mesh = loaded->mesh;
-  if (mesh.triangles.empty()) {
-    return report_error(ErrorCode::kParse,
-                        "'" + args.mesh + "' has no non-degenerate triangle to render");
-  }
+  // Nothing to render is the mesh's problem, reported before a fit's.
+  if (Status st = check_triangles(mesh); !st) return report_mesh_error(st.error(), args.mesh);
   if (projecting && !proxy) {
     auto fitted = resolve_proxy(args.geometry, mesh, args.mesh, &std::cerr);
     if (!fitted) return report_error(fitted.error());
@@ -195,12 +190,9 @@ int run_render(const RenderArgs& args) {
     source = VertexColorSource{};
   }
 
-  auto scene = EmbreeScene::build(mesh, BuildQuality::kMedium);
-  if (!scene) return report_error(scene.error());
-  auto image = render_preview(mesh, *scene, source, options);
-  if (!image) return report_error(image.error());
-  const ImageView view{image->width, image->height, image->pixels.data()};
-  if (Status st = write_image(output, view); !st) return report_error(st.error());
+  Expected<Rendered> rendered = render_mesh(mesh, source, options, run);
+  if (!rendered) return report_mesh_error(rendered.error(), args.mesh);
+  if (Status st = write_image(output, rendered->image.view()); !st) return report_error(st.error());
   return 0;
 }
 

@@ -9,7 +9,7 @@
 #include <functional>
 #include <string>
 
-#include "mapping/error.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 
@@ -22,9 +22,18 @@ RunFunction add_render_command(CLI::App& app);
 RunFunction add_compare_command(CLI::App& app);
 RunFunction add_info_command(CLI::App& app);
 
-// Prints "texbake: error: <message>" to stderr and returns the exit code for
-// the error's kind (2 for kInvalidArgument/kUnsupported, else 1).
+// The exit code of an error, by its category (texbake/texbake.h): 2 for
+// kUsage, 1 for kInput, kInternal and kCancelled (SPEC section 5). The one
+// place the CLI maps errors to exit codes.
+int exit_code(const Error& error);
+
+// Prints "texbake: error: <message>" to stderr and returns exit_code(error).
 int report_error(const Error& error);
 int report_error(ErrorCode code, const std::string& message);
+
+// report_error for an error of a call on the mesh read from `mesh`: the
+// API's errors about a mesh do not name its file, so a kInput message not
+// naming it yet is prefixed "MESH: ".
+int report_mesh_error(const Error& error, const std::string& mesh);
 
 }  // namespace texbake::cli

@@ -3,10 +3,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "bake/atlas/dilate.h"
 #include "mesh_io/atomic_file.h"
-#include "mesh_io/proxy_json.h"
 
-namespace texbake {
+namespace texbake::cli {
 
 namespace {
 
@@ -32,12 +32,53 @@ ordered_json color_json(const Rgba& c) {
   return ordered_json::array({c[0], c[1], c[2], c[3]});
 }
 
+// The "atlas" object: the atlas options, the bake's counts, the UV layout's
+// figures and the atlas stages' timings.
+ordered_json atlas_json(const AtlasReport& a, const Stats& stats, double write) {
+  const AtlasBakeOptions& o = a.options;
+  const Counts& c = stats.counts;
+  const Timings& t = stats.timings;
+  ordered_json j;
+  j["uv"] = to_string(a.uv.used);
+  j["size"] = o.size;
+  j["samples_per_texel"] = o.samples;
+  if (o.padding == kPaddingInfinite) {
+    j["padding"] = "inf";
+  } else {
+    j["padding"] = o.padding == kPaddingDefault ? default_padding(o.size) : o.padding;
+  }
+  j["counts"] = {
+      {"texels", c.texels},     {"samples", c.samples},     {"border_samples", c.border_samples},
+      {"occluded", c.occluded}, {"undefined", c.undefined}, {"outside", c.outside},
+      {"padded", c.padded}};
+  if (a.uv.used == UvLayout::kMesh) {
+    j["uv_check"] = {{"corners_outside", a.uv.corners_outside},
+                     {"overlap_texels", a.uv.overlap_texels}};
+  } else if (a.uv.used == UvLayout::kProxy) {
+    j["cut_triangles"] = a.uv.cut_triangles;
+  } else {
+    j["charts"] = a.uv.charts;
+    j["utilisation"] = a.uv.utilisation;
+    j["stretch_l2"] = a.uv.stretch_l2;
+  }
+  j["timings"] = {{"uv_layout", t.uv_layout},
+                  {"rasterize", t.rasterize},
+                  {"scene_build", t.scene_build},
+                  {"sample", t.bake},
+                  {"fill", t.fill},
+                  {"pad", t.pad},
+                  {"write", write}};
+  return j;
+}
+
 }  // namespace
 
 std::string report_json(const BakeReport& r) {
   ordered_json j;
   j["command"] = "bake";
-  const bool atlas = r.atlas_counts.has_value();
+  const bool atlas = r.atlas.has_value();
+  const Counts& counts = r.stats.counts;
+  const Timings& timings = r.stats.timings;
   j["target"] = atlas ? "atlas" : "vertex";
   ordered_json& inputs = j["inputs"];
   inputs["mesh"] = r.mesh_path;
@@ -46,7 +87,7 @@ std::string report_json(const BakeReport& r) {
   inputs["image"] = {{"width", r.image_width}, {"height", r.image_height}};
   ordered_json& o = inputs["options"];
   if (atlas) {
-    o["samples"] = r.atlas_samples;
+    o["samples"] = r.atlas->options.samples;
   } else {
     o["filter"] = name(r.options.filter);
     o["samples"] = r.options.filter == VertexFilter::kArea ? r.options.samples : 1;
@@ -71,44 +112,43 @@ std::string report_json(const BakeReport& r) {
   j["proxy"] = proxy_json(r.proxy);
   j["proxy_fitted"] = r.fitted_flags;
   ordered_json& c = j["counts"];
-  c["vertices"] = r.counts.vertices;
-  c["triangles"] = r.counts.triangles;
-  c["degenerate_skipped"] = r.degenerate_skipped;
-  c["unreferenced_vertices"] = r.unreferenced_vertices;
+  c["vertices"] = counts.vertices;
+  c["triangles"] = counts.triangles;
+  c["degenerate_skipped"] = counts.degenerate_triangles;
+  c["unreferenced_vertices"] = counts.unreferenced_vertices;
   if (atlas) {
-    const AtlasBakeCounts& a = *r.atlas_counts;
-    c["texels"] = a.texels;
-    c["samples"] = a.samples;
-    c["occluded"] = a.occluded;
-    c["undefined"] = a.undefined;
-    c["outside"] = a.outside;
-    c["padded"] = a.padded;
-    j["atlas"] = ordered_json::parse(r.atlas_json.empty() ? "{}" : r.atlas_json);
+    c["texels"] = counts.texels;
+    c["samples"] = counts.samples;
+    c["occluded"] = counts.occluded;
+    c["undefined"] = counts.undefined;
+    c["outside"] = counts.outside;
+    c["padded"] = counts.padded;
+    j["atlas"] = atlas_json(*r.atlas, r.stats, r.write);
   } else {
-    c["samples"] = r.counts.samples;
-    c["occluded"] = r.counts.occluded;
-    c["undefined"] = r.counts.undefined;
-    c["outside"] = r.counts.outside;
-    c["filled"] = r.counts.filled;
-    c["unfilled"] = r.counts.unfilled;
+    c["samples"] = counts.samples;
+    c["occluded"] = counts.occluded;
+    c["undefined"] = counts.undefined;
+    c["outside"] = counts.outside;
+    c["filled"] = counts.filled;
+    c["unfilled"] = counts.unfilled;
   }
   ordered_json& t = j["timings"];
-  t["load"] = r.timings.load;
-  t["fit"] = r.timings.fit;
+  t["load"] = r.load;
+  t["fit"] = r.fit;
   if (atlas) {
-    t["uv_layout"] = r.timings.uv_layout;
-    t["rasterize"] = r.timings.rasterize;
-    t["scene_build"] = r.timings.scene_build;
-    t["sample"] = r.timings.sample;
-    t["fill"] = r.timings.fill;
-    t["pad"] = r.timings.pad;
+    t["uv_layout"] = timings.uv_layout;
+    t["rasterize"] = timings.rasterize;
+    t["scene_build"] = timings.scene_build;
+    t["sample"] = timings.bake;
+    t["fill"] = timings.fill;
+    t["pad"] = timings.pad;
   } else {
-    t["scene_build"] = r.timings.scene_build;
-    t["bake"] = r.timings.bake;
-    t["fill"] = r.timings.fill;
+    t["scene_build"] = timings.scene_build;
+    t["bake"] = timings.bake;
+    t["fill"] = timings.fill;
   }
-  t["write"] = r.timings.write;
-  t["total"] = r.timings.total;
+  t["write"] = r.write;
+  t["total"] = r.total;
   return j.dump(2) + "\n";
 }
 
@@ -123,4 +163,4 @@ Status write_report(const std::filesystem::path& path, const BakeReport& report)
   });
 }
 
-}  // namespace texbake
+}  // namespace texbake::cli

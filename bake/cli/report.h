@@ -14,9 +14,15 @@
 //               atlas: {"vertices", "triangles", "degenerate_skipped",
 //                "unreferenced_vertices", "texels", "samples", "occluded",
 //                "undefined", "outside", "padded"},
-//    "atlas":   atlas target only: the AtlasJobReport of bake/cli/atlas_target.h
-//               (uv source, size, samples per texel, padding, counts, UV
-//               checks or chart statistics, its own stage timings),
+//    "atlas":   atlas target only: {"uv": "mesh" | "proxy" | "generate",
+//                "size", "samples_per_texel", "padding": texels | "inf",
+//                "counts": {"texels", "samples", "border_samples", "occluded",
+//                           "undefined", "outside", "padded"},
+//                uv mesh: "uv_check": {"corners_outside", "overlap_texels"},
+//                uv proxy: "cut_triangles", uv generate: "charts",
+//                "utilisation", "stretch_l2",
+//                "timings": {"uv_layout", "rasterize", "scene_build", "sample",
+//                            "fill", "pad", "write"}},
 //    "timings": vertex: {"load", "fit", "scene_build", "bake", "fill", "write", "total"}
 //               atlas:  {"load", "fit", "uv_layout", "rasterize", "scene_build",
 //                        "sample", "fill", "pad", "write", "total"}}  // seconds
@@ -26,52 +32,38 @@
 // vertex. Atlas target: "texels" covered texels, "samples" supersamples
 // taken, "occluded"/"undefined"/"outside" samples, "padded" texels filled by
 // the padding; options.filter does not apply and "samples" is per texel.
+// Everything but "inputs" and the CLI's own timings comes from the Stats of
+// texbake/texbake.h: the proxy's (timings.fit) and the bake's (counts and
+// the other timings; atlas "sample" is Timings::bake).
 #pragma once
 
-#include <cstddef>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "bake/atlas/bake_atlas.h"
-#include "bake/shade/options.h"
-#include "bake/vertex/bake_vertex.h"
-#include "mapping/error.h"
-#include "mapping/proxy.h"
+#include "texbake/texbake.h"
 
-namespace texbake {
+namespace texbake::cli {
 
-struct StageTimings {      // seconds
-  double load = 0;         // mesh and image reading
-  double fit = 0;          // fitting the proxy to the mesh (0 if nothing was fitted)
-  double uv_layout = 0;    // atlas: UV layout (mesh check, proxy cut or generate)
-  double rasterize = 0;    // atlas: covered texels and their samples
-  double sample = 0;       // atlas: mapping, visibility and image samples
-  double pad = 0;          // atlas: padding
-  double scene_build = 0;  // Embree BVH
-  double bake = 0;         // mapping, visibility, sampling
-  double fill = 0;         // occluded handling
-  double write = 0;        // output mesh
-  double total = 0;        // wall clock of the whole command
+struct AtlasReport {
+  AtlasBakeOptions options;  // size, samples per texel, padding
+  UvLayoutStats uv;
 };
 
 struct BakeReport {
   std::string mesh_path, texture_path, output_path;
   int image_width = 0, image_height = 0;
-  VertexBakeOptions options;
-  int threads = 0;  // 0 = all cores
+  VertexBakeOptions options;  // shading (filter and samples: vertex target)
+  int threads = 0;            // 0 = all cores
   ProxyParams proxy;
   std::vector<std::string> fitted_flags;  // geometry flags filled by a fit
-  VertexBakeCounts counts;                // vertex target (vertices and triangles for both)
-  // Atlas target: its counts, and the "atlas" object as JSON text (from
-  // bake/cli/atlas_target.h's atlas_report_json, which lives in the CLI).
-  std::optional<AtlasBakeCounts> atlas_counts;
-  int atlas_samples = 0;  // samples per texel
-  std::string atlas_json;
-  std::size_t degenerate_skipped = 0;
-  std::size_t unreferenced_vertices = 0;
-  StageTimings timings;
+  std::optional<AtlasReport> atlas;       // atlas target
+  Stats stats;                            // the bake's (bake_vertex_colors, bake_atlas_texture)
+  double fit = 0;                         // seconds: the proxy's Stats timings.fit
+  double load = 0;                        // seconds: mesh and image reading
+  double write = 0;                       // seconds: the output files
+  double total = 0;                       // seconds: the whole command
 };
 
 // The JSON text of the layout above (pretty-printed, 2 spaces, ends with a newline).
@@ -80,4 +72,4 @@ std::string report_json(const BakeReport& report);
 // Writes report_json(report) to path through write_atomically. Errors: kIo naming path.
 Status write_report(const std::filesystem::path& path, const BakeReport& report);
 
-}  // namespace texbake
+}  // namespace texbake::cli

@@ -418,7 +418,7 @@ Status validate_color_source(const MeshData& mesh, const ColorSource& source) {
 
 Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& scene,
                                      const ColorSource& source, const RenderOptions& options,
-                                     RenderStats* stats) {
+                                     RenderStats* stats, Progress* progress) {
   if (Status st = validate_options(options); !st) return st.error();
   if (Status st = validate_color_source(mesh, source); !st) return st.error();
   auto bounds = bounding_sphere(mesh);
@@ -466,7 +466,9 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
                            Light{world(ph.fill_direction), ph.fill_diffuse, ph.fill_specular}});
   }
 
+  if (progress) progress->start("render", tiles_per_view * views);
   parallel_for_chunks(tiles_per_view * views, 1, [&](std::size_t begin, std::size_t end) {
+    if (is_cancelled(progress)) return;
     thread_local TileScratch scratch;
     for (std::size_t t = begin; t < end; ++t) {
       const int view = static_cast<int>(t / tiles_per_view);
@@ -508,7 +510,10 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
           },
           source);
     }
+    if (progress) progress->advance(end - begin);
   });
+  if (is_cancelled(progress)) return cancelled_error();
+  if (progress) progress->finish();
 
   if (stats) {
     stats->primary_rays =

@@ -50,6 +50,7 @@
 #include <vector>
 
 #include "bake/trace/embree_scene.h"
+#include "bake/util/progress.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/proxy.h"
@@ -173,9 +174,11 @@ struct RenderStats {
 // width x height cells, row-major by azimuth; unused cells are background.
 // Runs in parallel (parallel_for_chunks over 16x16 tiles); the result does
 // not depend on the thread count. `stats`, if not null, receives ray counts.
-// Errors (kInvalidArgument): invalid options or colour source.
+// `progress`, if not null, hears the stage "render" (tiles done) and may
+// cancel. Errors: kInvalidArgument (invalid options or colour source),
+// kCancelled (progress's callback returned false).
 Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& scene,
                                      const ColorSource& source, const RenderOptions& options,
-                                     RenderStats* stats = nullptr);
+                                     RenderStats* stats = nullptr, Progress* progress = nullptr);
 
 }  // namespace texbake

@@ -32,8 +32,13 @@
 // with this one): MeshData (mesh_io/mesh_data.h), Image / ImageView,
 // Proxy / ProxyParams / make_proxy / inverse_map (mapping/proxy.h),
 // ProxySpec (mapping/proxy_schema.h), the bake options (bake/shade/options.h,
-// bake/atlas/bake_atlas.h) and the render options and colour sources
-// (bake/render/render_preview.h).
+// bake/atlas/bake_atlas.h), the UV layout choice (bake/uv/uv_layout.h) and
+// the render options and colour sources (bake/render/render_preview.h).
+//
+// Errors about the mesh (kInput from bake_vertex_colors, bake_atlas_texture,
+// render_mesh and check_triangles) do not name a file: the API never sees
+// the mesh's path. A caller that read the mesh from a file prefixes its name
+// (the CLI prints "texbake: error: MESH: all 3 triangles are degenerate").
 #pragma once
 
 #include <cstddef>
@@ -44,9 +49,11 @@
 #include <string_view>
 #include <vector>
 
+#include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
 #include "bake/atlas/bake_atlas.h"
 #include "bake/render/render_preview.h"
 #include "bake/shade/options.h"
+#include "bake/uv/uv_layout.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/proxy.h"
@@ -152,38 +159,37 @@ struct VertexColors {
   Stats stats;
 };
 
+// The most samples per vertex of VertexFilter::kArea.
+inline constexpr int kMaxVertexSamples = 65536;
+
 // SPEC sections 3 and 4, per vertex (the contract of bake/vertex/bake_vertex.h).
-// Errors: kUsage (options out of range), kInput (a mesh with no
-// non-degenerate triangle: "all N triangles are degenerate", or none at all),
-// kInternal, kCancelled.
+// Errors: kUsage (options out of range, an image without pixels), kInput (a
+// mesh with no non-degenerate triangle: see check_triangles), kInternal,
+// kCancelled. Progress stages: "bake" (per vertex), "fill".
 Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, const ImageView& image,
                                           const Proxy& proxy, const VertexBakeOptions& options = {},
                                           const RunOptions& run = {});
 
+// The same, taking the image over: it is released as soon as nothing reads
+// it any more (before the occlusion fill's solve, the memory peak).
+Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, Image&& image, const Proxy& proxy,
+                                          const VertexBakeOptions& options = {},
+                                          const RunOptions& run = {});
+
+// The option checks bake_vertex_colors makes first, for callers that check
+// before loading anything. kUsage naming the option by its CLI flag:
+// --samples outside 1 .. kMaxVertexSamples (kArea only), a colour component
+// outside [0, 1].
+Status validate_options(const VertexBakeOptions& options);
+
 // ---- Atlas ----------------------------------------------------------------
 
-enum class UvLayout {
-  kAuto,      // the mesh's own UVs if it has any, else kGenerate
-  kMesh,      // the mesh's own per-corner UVs (checked: outside [0,1], overlaps)
-  kGenerate,  // new non-overlapping charts (bake/uv/uv_generate.h)
-  kProxy,     // the proxy's (u, v), cut at its seam (bake/uv/uv_proxy.h)
-};
-const char* to_string(UvLayout layout);  // "auto", "mesh", "generate", "proxy"
+// UvLayout (auto | mesh | generate | proxy), to_string(UvLayout) and
+// UvLayoutStats: bake/uv/uv_layout.h.
 
 struct AtlasOptions {
   UvLayout uv = UvLayout::kAuto;
   AtlasBakeOptions bake;  // size, samples, padding, shading
-};
-
-// What the UV layout stage found (the report's "uv_check" / chart figures).
-struct UvLayoutStats {
-  UvLayout used = UvLayout::kMesh;  // kAuto resolved
-  std::size_t corners_outside = 0;  // kMesh
-  std::size_t overlap_texels = 0;   // kMesh
-  std::size_t cut_triangles = 0;    // kProxy
-  std::size_t charts = 0;           // kGenerate
-  double utilisation = 0;           // kGenerate: covered / all texels
-  double stretch_l2 = 0;            // kGenerate
 };
 
 struct Atlas {
@@ -194,13 +200,22 @@ struct Atlas {
   Stats stats;
 };
 
-// The whole atlas pipeline: UV layout (with the gutter rule: charts at
-// least two texels apart), bake (bake/atlas/bake_atlas.h), padding.
-// Errors: kUsage (options out of range; kMesh on a mesh without UVs),
-// kInput (no non-degenerate triangle, a mesh the layout cannot chart),
-// kInternal, kCancelled.
+// The whole atlas pipeline: UV layout (bake/uv/uv_layout.h, with the gutter
+// rule: generated charts at least kMinGutter texels apart), bake
+// (bake/atlas/bake_atlas.h), padding. Warnings of the layout (UVs outside
+// [0, 1], overlaps, stretched pole triangles) are in stats.warnings.
+// Errors: kUsage (options out of range, an image without pixels; kMesh on a
+// mesh without UVs), kInput (no non-degenerate triangle, a mesh the layout
+// cannot chart or whose UVs are unusable), kInternal, kCancelled. Progress
+// stages: "uv_layout", "sample" (per atlas row).
 Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
                                    const AtlasOptions& options = {}, const RunOptions& run = {});
+
+// The option checks bake_atlas_texture makes first (kUsage naming the CLI
+// flag): --size outside 1 .. kMaxAtlasSize, --samples outside
+// 1 .. kMaxAtlasSamples, a padding neither a count in 0 .. kMaxAtlasSize nor
+// kPaddingDefault / kPaddingInfinite, a colour component outside [0, 1].
+Status validate_options(const AtlasOptions& options);
 
 // ---- Render and compare ---------------------------------------------------
 
@@ -211,12 +226,24 @@ struct Rendered {
 };
 
 // texbake render (bake/render/render_preview.h): builds the Embree scene and
-// renders. Errors: kUsage (invalid options or colour source), kInput (no
-// non-degenerate triangle), kInternal, kCancelled.
+// renders. Errors: kUsage (invalid colour source; invalid options, found
+// once the scene is built), kInput (no non-degenerate triangle), kInternal,
+// kCancelled. Progress stage: "render" (per tile).
 Expected<Rendered> render_mesh(const MeshData& mesh, const ColorSource& source,
                                const RenderOptions& options = {}, const RunOptions& run = {});
 
 // compare_image_files and compare_images: mesh_io/image_compare.h.
+
+// ---- Meshes ---------------------------------------------------------------
+
+// Ok when `mesh` has a non-degenerate triangle (what bake and render need).
+// Errors (kInput): "the mesh has no faces"; "all N triangles are
+// degenerate", N counting the triangles of the faces' triangulation before
+// degenerate ones were removed (mesh_io/read_mesh.h: a polygon of n >= 3
+// corners gives n - 2, a face of fewer corners counts as one). The bakes
+// and render_mesh call it first; a caller that fits a proxy may call it
+// before the fit, to report the mesh's problem rather than the fit's.
+Status check_triangles(const MeshData& mesh);
 
 // ---- Writing --------------------------------------------------------------
 
@@ -229,15 +256,24 @@ struct WriteOptions {
 
 // A mesh with per-vertex colours, by extension: .ply (binary little-endian,
 // or ASCII), .obj (v x y z r g b), .glb (COLOR_0, linear). Errors: kUsage
-// (unknown extension, ascii with non-PLY), kInput for I/O (naming the file).
+// (unknown extension, ascii with non-PLY, not one colour per vertex),
+// kInput for I/O (naming the file).
 Status write_vertex_colors(const std::filesystem::path& path, const MeshData& mesh,
                            std::span<const Rgba> colors, const WriteOptions& options = {});
 
 // An atlas bake, by extension: .obj (+ .mtl + the atlas image beside it,
 // atlas_files() names them) or .glb (atlas embedded as PNG; kExr is kUsage).
-// The set is replaced all together or not at all.
+// The set is replaced all together or not at all. Errors: kUsage (another
+// extension, kExr with .glb), kInput for I/O (naming the file).
 Status write_atlas(const std::filesystem::path& path, const Atlas& atlas,
                    const WriteOptions& options = {});
+
+// The option checks the writers make first, for callers that check before
+// any long work (kUsage naming the CLI flag): `atlas` = write_atlas's
+// ("--format exr cannot be embedded in F.glb ..."), else
+// write_vertex_colors's ("--ascii applies to .ply output only"); an
+// unknown extension for either.
+Status validate_write(const std::filesystem::path& path, const WriteOptions& options, bool atlas);
 
 // Every file write_atlas(path, ..., options) writes, the mesh file first.
 std::vector<std::filesystem::path> atlas_files(const std::filesystem::path& path,

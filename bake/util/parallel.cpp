@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <optional>
@@ -21,6 +22,11 @@ ThreadLimit::ThreadLimit(int threads) : impl_(std::make_unique<ThreadLimitImpl>(
 }
 
 ThreadLimit::~ThreadLimit() = default;
+
+void run_in_arena(int threads, const std::function<void()>& fn) {
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute(fn);
+}
 
 void parallel_for_chunks(std::size_t n, std::size_t grain,
                          const std::function<void(std::size_t, std::size_t)>& fn) {

@@ -12,8 +12,16 @@
 
 namespace texbake {
 
+// Runs fn() inside a task arena of `threads` threads (0 = all cores): every
+// parallel loop fn starts runs on at most that many threads (the calling
+// thread among them), without limiting what other threads of the process
+// run (texbake/texbake.h's RunOptions::threads). Exceptions from fn
+// propagate.
+void run_in_arena(int threads, const std::function<void()>& fn);
+
 // Limits every parallel loop of the process to `threads` worker threads while
-// alive (0 = all cores). Create one at the start of a command.
+// alive (0 = all cores). Process-wide: the library uses run_in_arena; this
+// remains for the tests and benchmarks that compare thread counts.
 class ThreadLimit {
  public:
   explicit ThreadLimit(int threads);

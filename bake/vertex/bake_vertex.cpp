@@ -323,6 +323,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   std::atomic<std::size_t> samples{0}, outside{0};
   if (progress) progress->start("bake", n);
   parallel_for_chunks(n, kVertexGrain, [&](std::size_t begin, std::size_t end) {
+    if (is_cancelled(progress)) return;
     ChunkCounts counts;
     std::visit([&](const auto& p) { bake_chunk(p, ctx, begin, end, result.colors, state, counts); },
                proxy);
@@ -330,6 +331,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
     outside += counts.outside;
     if (progress) progress->advance(end - begin);
   });
+  if (is_cancelled(progress)) return cancelled_error();
   if (progress) progress->finish();
   scene.reset();  // the BVH is not needed any more: free it before the fill
   result.timings.bake = seconds_since(bake_start);

@@ -69,8 +69,9 @@ struct VertexBakeResult {
 };
 
 // Preconditions: image has at least 1x1 pixel; mesh.triangles index
-// mesh.positions. Errors: kInternal (Embree or the fill solver failed).
-// progress may be null.
+// mesh.positions. Errors: kInternal (Embree or the fill solver failed),
+// kCancelled (progress's callback returned false: the remaining chunks are
+// skipped). progress may be null; it hears the stage "bake".
 Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& image,
                                        const Proxy& proxy, const VertexBakeOptions& options,
                                        Progress* progress = nullptr);

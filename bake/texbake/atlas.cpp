@@ -1,0 +1,103 @@
+// bake_atlas_texture: the UV layout (bake/uv/uv_layout.h), the atlas bake and
+// its padding (bake/atlas/bake_atlas.h) behind the API's conventions.
+#include <string>
+#include <utility>
+
+#include "bake/atlas/atlas_raster.h"
+#include "bake/atlas/bake_atlas.h"
+#include "bake/atlas/dilate.h"
+#include "bake/texbake/run.h"
+#include "bake/util/progress.h"
+#include "bake/util/timing.h"
+#include "bake/uv/uv_layout.h"
+
+namespace texbake {
+
+Status validate_options(const AtlasOptions& options) {
+  const AtlasBakeOptions& o = options.bake;
+  if (o.size < 1 || o.size > kMaxAtlasSize) {
+    return make_error(ErrorCode::kInvalidArgument, "--size " + std::to_string(o.size) +
+                                                       " is out of range (1 .. " +
+                                                       std::to_string(kMaxAtlasSize) + ")");
+  }
+  if (o.samples < 1 || o.samples > kMaxAtlasSamples) {
+    return make_error(ErrorCode::kInvalidArgument, "--samples " + std::to_string(o.samples) +
+                                                       " is out of range for an atlas (1 .. " +
+                                                       std::to_string(kMaxAtlasSamples) + ")");
+  }
+  const bool constant = o.padding == kPaddingDefault || o.padding == kPaddingInfinite;
+  if (!constant && (o.padding < 0 || o.padding > kMaxAtlasSize)) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--padding " + std::to_string(o.padding) + " is not a texel count (0 .. " +
+                          std::to_string(kMaxAtlasSize) + ") or 'inf'");
+  }
+  return detail::check_shading_colors(o.shading);
+}
+
+Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
+                                   const AtlasOptions& options, const RunOptions& run) {
+  const auto start = Clock::now();
+  if (Status s = validate_options(options); !s) return s.error();
+  if (Status s = detail::check_image(image); !s) return s.error();
+  if (Status s = check_uv_layout(mesh, options.uv); !s) return s.error();
+  if (Status s = check_triangles(mesh); !s) return s.error();
+  Progress progress(run.progress);
+  return detail::run_call<Atlas>(run, [&]() -> Expected<Atlas> {
+    const AtlasBakeOptions& bo = options.bake;
+    auto t0 = Clock::now();
+    progress.start("uv_layout", 1);
+    UvLayoutOptions lo;
+    lo.uv = options.uv;
+    lo.atlas_size = bo.size;
+    // The padding the bake will dilate by (push-pull has no ring count: the
+    // default's) sets the gutter.
+    lo.padding = bo.padding >= 0 ? bo.padding : default_padding(bo.size);
+    Expected<UvLayoutResult> layout = lay_out_uvs(mesh, proxy, lo);
+    if (!layout) return detail::as_input(layout.error());
+    Atlas atlas;
+    atlas.uv = layout->stats;
+    atlas.repeat_u = layout->repeat_u;
+    atlas.stats.warnings = std::move(layout->warnings);
+    switch (atlas.uv.used) {
+      case UvLayout::kProxy:
+        atlas.mesh = std::move(layout->mesh);
+        break;
+      case UvLayout::kGenerate:
+        atlas.mesh =
+            mesh_with_triangle_uvs(mesh, layout->generated.uvs, layout->generated.triangle_uvs);
+        break;
+      case UvLayout::kMesh:
+      case UvLayout::kAuto:
+        atlas.mesh = mesh;
+        break;
+    }
+    layout->generated = UvAtlas{};  // free the layout's tables before the bake
+    progress.finish();
+    if (progress.cancelled()) return cancelled_error();
+    Timings& t = atlas.stats.timings;
+    t.uv_layout = seconds_since(t0);
+
+    Expected<AtlasBakeResult> baked = bake_atlas(atlas.mesh, image, proxy, bo, &progress);
+    if (!baked) return detail::as_input(baked.error());
+    atlas.image = std::move(baked->atlas);
+    Counts& c = atlas.stats.counts;
+    c = detail::mesh_counts(mesh);
+    const AtlasBakeCounts& b = baked->counts;
+    c.texels = b.texels;
+    c.samples = b.samples;
+    c.border_samples = b.border_samples;
+    c.occluded = b.occluded;
+    c.undefined = b.undefined;
+    c.outside = b.outside;
+    c.padded = b.padded;
+    t.rasterize = baked->timings.rasterize;
+    t.scene_build = baked->timings.scene_build;
+    t.bake = baked->timings.sample;
+    t.fill = baked->timings.fill;
+    t.pad = baked->timings.pad;
+    t.total = seconds_since(start);
+    return atlas;
+  });
+}
+
+}  // namespace texbake

@@ -1,0 +1,108 @@
+// Errors, the version, and what every call shares (bake/texbake/run.h).
+#include "bake/texbake/run.h"
+
+#include <cmath>
+#include <vector>
+
+namespace texbake {
+
+ErrorCategory category(const Error& error) {
+  switch (error.code) {
+    case ErrorCode::kInvalidArgument:
+    case ErrorCode::kUnsupported:
+      return ErrorCategory::kUsage;
+    case ErrorCode::kParse:
+    case ErrorCode::kIo:
+      return ErrorCategory::kInput;
+    case ErrorCode::kCancelled:
+      return ErrorCategory::kCancelled;
+    case ErrorCode::kInternal:
+      break;
+  }
+  return ErrorCategory::kInternal;
+}
+
+const char* version() {
+  return TEXBAKE_VERSION;
+}
+
+namespace {
+
+// Triangles of the faces' triangulation before degenerate ones are removed
+// (mesh_io/read_mesh.cpp triangulate_faces: n - 2 per polygon of n >= 3
+// corners, fan or ear clipping alike; one per face of fewer corners).
+std::size_t triangulated_count(const MeshData& mesh) {
+  std::size_t count = 0;
+  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+    const std::size_t n = mesh.face_offsets[f + 1] - mesh.face_offsets[f];
+    count += n < 3 ? 1 : n - 2;
+  }
+  return count;
+}
+
+}  // namespace
+
+Status check_triangles(const MeshData& mesh) {
+  if (!mesh.triangles.empty()) return ok_status();
+  if (mesh.face_count() == 0) return make_error(ErrorCode::kParse, "the mesh has no faces");
+  return make_error(ErrorCode::kParse, "all " + std::to_string(triangulated_count(mesh)) +
+                                           " triangles are degenerate");
+}
+
+namespace detail {
+
+Error as_input(Error error) {
+  if (category(error) == ErrorCategory::kUsage) error.code = ErrorCode::kParse;
+  return error;
+}
+
+Counts mesh_counts(const MeshData& mesh) {
+  Counts c;
+  c.vertices = mesh.vertex_count();
+  c.triangles = mesh.triangles.size();
+  const std::size_t all = triangulated_count(mesh);
+  c.degenerate_triangles = all > c.triangles ? all - c.triangles : 0;
+  // Referenced: by a face (read_mesh's rule); a mesh built in memory with
+  // triangles only counts those.
+  std::vector<char> used(c.vertices, 0);
+  auto use = [&](uint32_t v) {
+    if (v < used.size()) used[v] = 1;
+  };
+  if (mesh.face_count() > 0) {
+    for (uint32_t v : mesh.face_vertices) use(v);
+  } else {
+    for (const auto& t : mesh.triangles) {
+      for (uint32_t v : t) use(v);
+    }
+  }
+  for (char u : used) c.unreferenced_vertices += u == 0;
+  return c;
+}
+
+Status check_image(const ImageView& image) {
+  if (image.width < 1 || image.height < 1 || !image.data) {
+    return make_error(ErrorCode::kInvalidArgument, "the image has no pixels");
+  }
+  return ok_status();
+}
+
+Status check_shading_colors(const VertexBakeOptions& options) {
+  auto in_unit = [](const Rgba& c) {
+    for (float x : c) {
+      if (!(x >= 0 && x <= 1)) return false;
+    }
+    return true;
+  };
+  if (options.occluded == OccludedMode::kColor && !in_unit(options.occluded_color)) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--occluded: colour components must lie in [0, 1]");
+  }
+  if (options.outside == OutsideMode::kColor && !in_unit(options.outside_color)) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--outside: colour components must lie in [0, 1]");
+  }
+  return ok_status();
+}
+
+}  // namespace detail
+}  // namespace texbake

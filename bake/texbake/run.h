@@ -1,0 +1,50 @@
+// What every call of texbake/texbake.h shares (internal to bake/texbake/):
+// running in the call's task arena with exceptions turned into errors, the
+// mesh counts of Stats, and the re-coding of the work's errors.
+#pragma once
+
+#include <exception>
+#include <new>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "bake/util/parallel.h"
+#include "texbake/texbake.h"
+
+namespace texbake::detail {
+
+// Runs work() (returning Expected<T>) inside a task arena of run.threads
+// threads; std::bad_alloc and other exceptions become kInternal errors
+// ("out of memory", "unexpected failure: ..."), so nothing escapes the API.
+template <class T, class Work>
+Expected<T> run_call(const RunOptions& run, Work&& work) {
+  std::optional<Expected<T>> out;
+  try {
+    run_in_arena(run.threads, [&] { out.emplace(work()); });
+  } catch (const std::bad_alloc&) {
+    return make_error(ErrorCode::kInternal, "out of memory");
+  } catch (const std::exception& e) {
+    return make_error(ErrorCode::kInternal, std::string("unexpected failure: ") + e.what());
+  }
+  return std::move(*out);
+}
+
+// An error of the work done after the options were validated: a stage
+// saying kInvalidArgument/kUnsupported there (e.g. "zero total area" from
+// UV generation) means the input cannot be worked on, so it becomes kParse
+// (category kInput). Other codes are kept.
+Error as_input(Error error);
+
+// vertices, triangles, degenerate_triangles and unreferenced_vertices of
+// `mesh` (as read_mesh counts them in MeshIssues).
+Counts mesh_counts(const MeshData& mesh);
+
+// kUsage "the image has no pixels" for an empty view.
+Status check_image(const ImageView& image);
+
+// A colour component outside [0, 1] (or NaN) in the shading options that
+// use it: kUsage naming --occluded / --outside.
+Status check_shading_colors(const VertexBakeOptions& options);
+
+}  // namespace texbake::detail

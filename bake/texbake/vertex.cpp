@@ -1,0 +1,78 @@
+// bake_vertex_colors: bake/vertex/bake_vertex.h behind the API's conventions.
+#include <utility>
+
+#include "bake/texbake/run.h"
+#include "bake/util/progress.h"
+#include "bake/util/timing.h"
+#include "bake/vertex/bake_vertex.h"
+
+namespace texbake {
+
+namespace {
+
+// `release` is called once nothing reads `image` any more (between the
+// sampling and the fill's solve).
+template <class Release>
+Expected<VertexColors> bake(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
+                            const VertexBakeOptions& options, const RunOptions& run,
+                            Release&& release) {
+  const auto start = Clock::now();
+  if (Status s = validate_options(options); !s) return s.error();
+  if (Status s = detail::check_image(image); !s) return s.error();
+  if (Status s = check_triangles(mesh); !s) return s.error();
+  Progress progress(run.progress);
+  return detail::run_call<VertexColors>(run, [&]() -> Expected<VertexColors> {
+    Expected<VertexBakeStage> sampled = bake_vertex_sample(mesh, image, proxy, options, &progress);
+    if (!sampled) return detail::as_input(sampled.error());
+    release();
+    progress.start("fill", 1);
+    Expected<VertexBakeResult> baked = bake_vertex_finish(mesh, std::move(sampled).value());
+    if (!baked) return detail::as_input(baked.error());
+    progress.finish();
+    if (progress.cancelled()) return cancelled_error();
+
+    VertexColors out;
+    out.colors = std::move(baked->colors);
+    Counts& c = out.stats.counts;
+    c = detail::mesh_counts(mesh);
+    const VertexBakeCounts& b = baked->counts;
+    c.samples = b.samples;
+    c.occluded = b.occluded;
+    c.undefined = b.undefined;
+    c.outside = b.outside;
+    c.filled = b.filled;
+    c.unfilled = b.unfilled;
+    Timings& t = out.stats.timings;
+    t.scene_build = baked->timings.scene_build;
+    t.bake = baked->timings.bake;
+    t.fill = baked->timings.fill;
+    t.total = seconds_since(start);
+    return out;
+  });
+}
+
+}  // namespace
+
+Status validate_options(const VertexBakeOptions& options) {
+  if (options.filter == VertexFilter::kArea &&
+      (options.samples < 1 || options.samples > kMaxVertexSamples)) {
+    return make_error(ErrorCode::kInvalidArgument, "--samples " + std::to_string(options.samples) +
+                                                       " is out of range (1 .. " +
+                                                       std::to_string(kMaxVertexSamples) + ")");
+  }
+  return detail::check_shading_colors(options);
+}
+
+Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, const ImageView& image,
+                                          const Proxy& proxy, const VertexBakeOptions& options,
+                                          const RunOptions& run) {
+  return bake(mesh, image, proxy, options, run, [] {});
+}
+
+Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, Image&& image, const Proxy& proxy,
+                                          const VertexBakeOptions& options, const RunOptions& run) {
+  Image owned = std::move(image);
+  return bake(mesh, owned.view(), proxy, options, run, [&] { owned = Image{}; });
+}
+
+}  // namespace texbake
