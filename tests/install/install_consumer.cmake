@@ -13,7 +13,8 @@
 #   3. configure and build examples/consumer against the prefix alone
 #      (CMAKE_PREFIX_PATH) in a folder of its own and run it on data/: it
 #      writes bunny.ply and bunny.obj + .mtl + .png, which must be non-empty;
-#   4. run the installed `texbake --version`.
+#   4. run the installed `texbake --version`, and `texbake bake` on the same
+#      two jobs: its outputs must equal the consumer's byte for byte.
 cmake_minimum_required(VERSION 3.24)
 
 set(prefix "${WORK_DIR}/prefix")
@@ -83,10 +84,24 @@ foreach(file bunny.ply bunny.obj bunny.mtl bunny.png)
   endif()
 endforeach()
 
-# 4. The installed command line.
+# 4. The installed command line: --version, and the same two jobs give the
+# same bytes (libtexbake.so and the statically linked executable agree).
 execute_process(COMMAND "${prefix}/bin/texbake" --version RESULT_VARIABLE status
   OUTPUT_VARIABLE version_line OUTPUT_STRIP_TRAILING_WHITESPACE)
 if(NOT status EQUAL 0 OR NOT version_line STREQUAL "texbake ${VERSION}")
   message(FATAL_ERROR "${prefix}/bin/texbake --version: exit ${status}, \"${version_line}\"")
 endif()
+set(cli_out "${WORK_DIR}/cli")
+file(MAKE_DIRECTORY "${cli_out}")
+set(job bake "${SOURCE_DIR}/data/bunny00.off" --texture "${SOURCE_DIR}/data/earth.jpg"
+  --proxy sphere --up y -q)
+run("${prefix}/bin/texbake" ${job} -o "${cli_out}/bunny.ply")
+run("${prefix}/bin/texbake" ${job} --uv generate --size 512 -o "${cli_out}/bunny.obj")
+foreach(file bunny.ply bunny.obj bunny.mtl bunny.png)
+  execute_process(COMMAND "${CMAKE_COMMAND}" -E compare_files "${out}/${file}" "${cli_out}/${file}"
+    RESULT_VARIABLE differ)
+  if(differ)
+    message(FATAL_ERROR "the consumer's ${file} differs from texbake bake's (${cli_out})")
+  endif()
+endforeach()
 message(STATUS "InstallConsumer: installed into ${prefix}, consumer ran, ${version_line}")
