@@ -11,7 +11,7 @@
 # followed. A quoted include that does not resolve is an error.
 
 # The install script runs with CMake 2.x policies; include() scopes this.
-cmake_policy(VERSION 3.24)
+cmake_policy(VERSION 3.22)
 
 set(pending "bake/texbake/texbake.h")
 set(headers "")

@@ -15,7 +15,7 @@
 #      writes bunny.ply and bunny.obj + .mtl + .png, which must be non-empty;
 #   4. run the installed `texbake --version`, and `texbake bake` on the same
 #      two jobs: its outputs must equal the consumer's byte for byte.
-cmake_minimum_required(VERSION 3.24)
+cmake_minimum_required(VERSION 3.22)
 
 set(prefix "${WORK_DIR}/prefix")
 set(consumer_build "${WORK_DIR}/consumer-build")
