@@ -3,7 +3,7 @@
 // sphere proxy around the mesh, the Earth map, visibility on, --occluded fill,
 // at 2048 and 4096 and 1 and 4 samples per texel: seconds per stage as
 // counters (rasterise, scene_build, sample, fill, pad, write) and the job
-// without the UV layout ("bake_write"). The UV layout (bake/uv_generate*, its
+// without the UV layout ("bake_write"). The UV layout (bake/uv/uv_*, its
 // own benchmark in uv_generate_bench.cpp) is computed once per mesh and size,
 // outside the timed loop; its time is the "uv_layout" counter.
 //

@@ -224,7 +224,7 @@ Status write_image(const fs::path& path, const ImageView& image, const ImageWrit
   }
   const std::string ext = lower_ext(path);
   const Encoding e = encoding_for(image, ext, options);
-  return write_atomically(path, [&](const fs::path& temp) -> Status {
+  return stage_or_write(options.file_set, path, [&](const fs::path& temp) -> Status {
     auto out = OIIO::ImageOutput::create(temp.string());
     if (!out) {
       return make_error(ErrorCode::kUnsupported, "cannot write " + path.string() +

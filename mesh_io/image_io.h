@@ -29,6 +29,8 @@
 
 namespace texbake {
 
+class AtomicFileSet;
+
 // Owning float RGBA image; view() is valid while the Image lives unchanged.
 struct Image {
   int width = 0;
@@ -71,6 +73,9 @@ struct ImageWriteOptions {
   // PNG only: zlib/deflate level 0 (fastest, largest) .. 9 (slowest,
   // smallest); lossless at every level.
   int png_compression = kPngCompressionDefault;
+  // write_image only: stage the file into this set (mesh_io/atomic_file.h;
+  // the caller commits it) instead of writing it at once.
+  AtomicFileSet* file_set = nullptr;
 };
 
 // Precondition: image has at least 1x1 pixel.

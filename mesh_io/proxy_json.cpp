@@ -1,7 +1,6 @@
 // Proxy <-> JSON with nlohmann-json (the only nlohmann user in mesh_io).
 #include "mesh_io/proxy_json.h"
 
-#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -11,6 +10,7 @@
 #include <sstream>
 #include <vector>
 
+#include "mapping/proxy_schema.h"
 #include "mesh_io/atomic_file.h"
 
 namespace texbake {
@@ -29,12 +29,12 @@ class ObjectReader {
   }
 
   // Unknown keys are errors: a typo ("raduis") must not fall back to a default.
-  std::optional<Error> only_keys(ProxyKind kind, const std::vector<std::string>& allowed) const {
+  std::optional<Error> only_keys(ProxyKind kind) const {
     for (const auto& [key, value] : object_.items()) {
       if (key == "kind") continue;
-      if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
+      if (!find_field(kind, key)) {
         std::string list = "kind";
-        for (const std::string& k : allowed) list += ", " + k;
+        for (const ParamField& f : proxy_fields(kind)) list += ", " + std::string(f.key);
         return fail("unknown key '" + key + "' for a " + to_string(kind) + " proxy (expected " +
                     list + ")");
       }
@@ -42,39 +42,24 @@ class ObjectReader {
     return std::nullopt;
   }
 
-  Expected<double> number(const std::string& key) const {
+  // The value of `field` as its type; nullopt if the key is absent.
+  Expected<std::optional<ParamValue>> value(const ParamField& field) const {
+    const std::string key(field.key);
     const json* v = find(key);
-    if (!v) return fail("missing key '" + key + "'");
-    return to_number(*v, "key '" + key + "'");
-  }
-
-  Expected<Vec3> vector(const std::string& key) const {
-    const json* v = find(key);
-    if (!v) return fail("missing key '" + key + "'");
-    return to_vector(*v, "key '" + key + "'");
-  }
-
-  Expected<std::optional<Vec3>> optional_vector(const std::string& key) const {
-    const json* v = find(key);
-    if (!v) return std::optional<Vec3>{};
-    Expected<Vec3> vec = to_vector(*v, "key '" + key + "'");
-    if (!vec) return vec.error();
-    return std::optional<Vec3>{*vec};
-  }
-
-  Expected<std::array<Vec3, 4>> corners(const std::string& key) const {
-    const json* v = find(key);
-    if (!v) return fail("missing key '" + key + "'");
-    if (!v->is_array() || v->size() != 4) {
-      return fail("key '" + key + "' must be an array of 4 points [x,y,z] (p00, p10, p11, p01)");
+    if (!v) return std::optional<ParamValue>{};
+    const auto some = [](auto x) -> Expected<std::optional<ParamValue>> {
+      if (!x) return x.error();
+      return std::optional<ParamValue>{ParamValue{*x}};
+    };
+    switch (field.type) {
+      case ParamType::kVec3:
+        return some(to_vector(*v, "key '" + key + "'"));
+      case ParamType::kNumber:
+        return some(to_number(*v, "key '" + key + "'"));
+      case ParamType::kCorners:
+        return some(to_corners(*v, key));
     }
-    std::array<Vec3, 4> out;
-    for (int i = 0; i < 4; ++i) {
-      Expected<Vec3> p = to_vector((*v)[i], "key '" + key + "'[" + std::to_string(i) + "]");
-      if (!p) return p.error();
-      out[i] = *p;
-    }
-    return out;
+    return fail("key '" + key + "' has an unknown type");
   }
 
  private:
@@ -104,6 +89,19 @@ class ObjectReader {
     return Vec3{c[0], c[1], c[2]};
   }
 
+  Expected<std::array<Vec3, 4>> to_corners(const json& v, const std::string& key) const {
+    if (!v.is_array() || v.size() != 4) {
+      return fail("key '" + key + "' must be an array of 4 points [x,y,z] (p00, p10, p11, p01)");
+    }
+    std::array<Vec3, 4> out;
+    for (int i = 0; i < 4; ++i) {
+      Expected<Vec3> p = to_vector(v[i], "key '" + key + "'[" + std::to_string(i) + "]");
+      if (!p) return p.error();
+      out[i] = *p;
+    }
+    return out;
+  }
+
   const json& object_;
   const std::string& source_;
 };
@@ -127,128 +125,41 @@ json parse_tracking_keys(std::string_view text, std::string* duplicate, std::str
   return json::parse(text.begin(), text.end(), callback);
 }
 
-template <class Params, class Fill>
-Expected<ProxyParams> read_kind(const ObjectReader& in, ProxyKind kind,
-                                const std::vector<std::string>& keys, Fill fill) {
-  if (auto e = in.only_keys(kind, keys)) return *e;
-  Params p;
-  if (auto e = fill(p)) return *e;
-  return ProxyParams{p};
-}
-
-// Assigns a parsed value or returns its error from the enclosing lambda.
-#define TEXBAKE_READ(target, expr)      \
-  do {                                  \
-    auto value_ = (expr);               \
-    if (!value_) return value_.error(); \
-    (target) = *value_;                 \
-  } while (0)
-
+// Every field of the kind's table, in its order; all are required but the
+// equator (mapping/proxy.h's default).
 Expected<ProxyParams> read_params(const ObjectReader& in, ProxyKind kind) {
-  using Opt = std::optional<Error>;
-  switch (kind) {
-    case ProxyKind::kSphere:
-      return read_kind<SphereParams>(in, kind, {"center", "radius", "pole", "equator"},
-                                     [&](SphereParams& p) -> Opt {
-                                       TEXBAKE_READ(p.center, in.vector("center"));
-                                       TEXBAKE_READ(p.radius, in.number("radius"));
-                                       TEXBAKE_READ(p.pole, in.vector("pole"));
-                                       TEXBAKE_READ(p.equator, in.optional_vector("equator"));
-                                       return std::nullopt;
-                                     });
-    case ProxyKind::kCylinder:
-      return read_kind<CylinderParams>(in, kind, {"base", "axis", "equator", "radius", "height"},
-                                       [&](CylinderParams& p) -> Opt {
-                                         TEXBAKE_READ(p.base, in.vector("base"));
-                                         TEXBAKE_READ(p.axis, in.vector("axis"));
-                                         TEXBAKE_READ(p.equator, in.optional_vector("equator"));
-                                         TEXBAKE_READ(p.radius, in.number("radius"));
-                                         TEXBAKE_READ(p.height, in.number("height"));
-                                         return std::nullopt;
-                                       });
-    case ProxyKind::kCone:
-      return read_kind<ConeParams>(in, kind, {"apex", "axis", "equator", "height", "radius"},
-                                   [&](ConeParams& p) -> Opt {
-                                     TEXBAKE_READ(p.apex, in.vector("apex"));
-                                     TEXBAKE_READ(p.axis, in.vector("axis"));
-                                     TEXBAKE_READ(p.equator, in.optional_vector("equator"));
-                                     TEXBAKE_READ(p.height, in.number("height"));
-                                     TEXBAKE_READ(p.radius, in.number("radius"));
-                                     return std::nullopt;
-                                   });
-    case ProxyKind::kDisk:
-      return read_kind<DiskParams>(in, kind, {"center", "normal", "equator", "radius"},
-                                   [&](DiskParams& p) -> Opt {
-                                     TEXBAKE_READ(p.center, in.vector("center"));
-                                     TEXBAKE_READ(p.normal, in.vector("normal"));
-                                     TEXBAKE_READ(p.equator, in.optional_vector("equator"));
-                                     TEXBAKE_READ(p.radius, in.number("radius"));
-                                     return std::nullopt;
-                                   });
-    case ProxyKind::kQuad:
-      return read_kind<QuadParams>(in, kind, {"corners"}, [&](QuadParams& p) -> Opt {
-        TEXBAKE_READ(p.corners, in.corners("corners"));
-        return std::nullopt;
-      });
-    case ProxyKind::kPlane:
-      return read_kind<PlaneParams>(in, kind, {"origin", "u_axis", "v_axis"},
-                                    [&](PlaneParams& p) -> Opt {
-                                      TEXBAKE_READ(p.origin, in.vector("origin"));
-                                      TEXBAKE_READ(p.u_axis, in.vector("u_axis"));
-                                      TEXBAKE_READ(p.v_axis, in.vector("v_axis"));
-                                      return std::nullopt;
-                                    });
+  if (auto e = in.only_keys(kind)) return *e;
+  ProxySpec spec{kind, {}, std::nullopt};
+  for (const ParamField& f : proxy_fields(kind)) {
+    Expected<std::optional<ParamValue>> value = in.value(f);
+    if (!value) return value.error();
+    if (*value) {
+      spec.values.emplace(f.key, **value);
+    } else if (f.role != ParamRole::kEquator) {
+      return in.fail("missing key '" + std::string(f.key) + "'");
+    }
   }
-  return in.fail("unknown proxy kind");
+  // Every field is there with its type: this cannot fail.
+  Expected<ProxyParams> params = params_from_spec(spec);
+  if (!params) return in.fail(params.error().message);
+  return params;
 }
 
-#undef TEXBAKE_READ
-
-json to_json(Vec3 v) {
-  return json::array({v.x, v.y, v.z});
+json to_json(const ParamValue& value) {
+  const auto vector = [](Vec3 v) { return json::array({v.x, v.y, v.z}); };
+  if (const double* x = std::get_if<double>(&value)) return *x;
+  if (const Vec3* v = std::get_if<Vec3>(&value)) return vector(*v);
+  json corners = json::array();
+  for (const Vec3& c : std::get<std::array<Vec3, 4>>(value)) corners.push_back(vector(c));
+  return corners;
 }
 
+// The kind and every field spec_from_params gives (json's std::map orders
+// the keys alphabetically on output).
 json params_json(const ProxyParams& params) {
   json j;
   j["kind"] = to_string(kind_of(params));
-  const auto equator = [&j](const std::optional<Vec3>& e) {
-    if (e) j["equator"] = to_json(*e);
-  };
-  std::visit(
-      [&](const auto& p) {
-        using T = std::decay_t<decltype(p)>;
-        if constexpr (std::is_same_v<T, SphereParams>) {
-          j["center"] = to_json(p.center);
-          j["radius"] = p.radius;
-          j["pole"] = to_json(p.pole);
-          equator(p.equator);
-        } else if constexpr (std::is_same_v<T, CylinderParams>) {
-          j["base"] = to_json(p.base);
-          j["axis"] = to_json(p.axis);
-          equator(p.equator);
-          j["radius"] = p.radius;
-          j["height"] = p.height;
-        } else if constexpr (std::is_same_v<T, ConeParams>) {
-          j["apex"] = to_json(p.apex);
-          j["axis"] = to_json(p.axis);
-          equator(p.equator);
-          j["height"] = p.height;
-          j["radius"] = p.radius;
-        } else if constexpr (std::is_same_v<T, DiskParams>) {
-          j["center"] = to_json(p.center);
-          j["normal"] = to_json(p.normal);
-          equator(p.equator);
-          j["radius"] = p.radius;
-        } else if constexpr (std::is_same_v<T, QuadParams>) {
-          j["corners"] = json::array();
-          for (const Vec3& c : p.corners) j["corners"].push_back(to_json(c));
-        } else {
-          j["origin"] = to_json(p.origin);
-          j["u_axis"] = to_json(p.u_axis);
-          j["v_axis"] = to_json(p.v_axis);
-        }
-      },
-      params);
+  for (const auto& [key, value] : spec_from_params(params).values) j[key] = to_json(value);
   return j;
 }
 

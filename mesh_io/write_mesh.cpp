@@ -234,12 +234,13 @@ Status write_obj(const fs::path& path, const MeshData& mesh, const MeshWriteOpti
     const std::string mtl =
         "# written by texbake\nnewmtl texbake\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd " +
         options.obj_material_texture + "\n";
-    Status s = write_atomically(
-        mtl_path, [&](const fs::path& temp) { return write_buffer(temp, mtl_path, mtl); });
+    Status s = stage_or_write(options.file_set, mtl_path, [&](const fs::path& temp) {
+      return write_buffer(temp, mtl_path, mtl);
+    });
     if (!s) return s;
   }
-  return write_atomically(path,
-                          [&](const fs::path& temp) { return write_buffer(temp, path, out); });
+  return stage_or_write(options.file_set, path,
+                        [&](const fs::path& temp) { return write_buffer(temp, path, out); });
 }
 
 }  // namespace

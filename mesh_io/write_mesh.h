@@ -31,6 +31,8 @@
 
 namespace texbake {
 
+class AtomicFileSet;
+
 struct MeshWriteOptions {
   bool ascii = false;  // PLY only: ASCII instead of binary little-endian
   // Colours to write instead of mesh.vertex_colors (one per vertex); empty:
@@ -39,6 +41,9 @@ struct MeshWriteOptions {
   // OBJ only: texture file name written as map_Kd in an MTL beside the OBJ
   // (relative to the OBJ's folder). Empty: no MTL.
   std::string obj_material_texture;
+  // Stage the file(s) (an OBJ and its MTL) into this set (mesh_io/
+  // atomic_file.h; the caller commits it) instead of writing them at once.
+  AtomicFileSet* file_set = nullptr;
 };
 
 Status write_mesh(const std::filesystem::path& path, const MeshData& mesh,

@@ -211,20 +211,20 @@ Status write_textured_obj(const fs::path& path, const MeshData& mesh, const Imag
   for (const fs::path& p : {path, image_path, mtl_path}) {
     if (Status s = check_writable(p); !s) return s;
   }
-  std::error_code ec;
-  const bool mtl_existed = fs::exists(mtl_path, ec);
+  // The three files are staged, then renamed together (image, MTL, OBJ
+  // last): a failure or an interruption while writing leaves the previous
+  // set untouched (atomic_file.h).
+  AtomicFileSet set;
   ImageWriteOptions io;
   io.bit_depth = options.bit_depth;
   io.png_compression = options.png_compression;
+  io.file_set = &set;
   if (Status s = write_image(image_path, atlas, io); !s) return s;
   MeshWriteOptions mo;
   mo.obj_material_texture = image_path.filename().string();  // relative: beside the OBJ
-  Status s = write_mesh(path, mesh, mo);
-  if (!s) {
-    fs::remove(image_path, ec);
-    if (!mtl_existed) fs::remove(mtl_path, ec);
-  }
-  return s;
+  mo.file_set = &set;
+  if (Status s = write_mesh(path, mesh, mo); !s) return s;
+  return set.commit();
 }
 
 }  // namespace

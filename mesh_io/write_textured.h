@@ -1,10 +1,11 @@
 // Textured and glTF mesh outputs (SPEC section 7, issue #4): OBJ + MTL + atlas
 // image, GLB with an embedded atlas, and GLB with per-vertex colours.
 //
-// All files go through write_atomically. A textured OBJ is three files,
-// written image first, MTL second, OBJ last; if any step fails the files this
-// call already wrote are removed again, so a failure never leaves a partial
-// set (an OBJ that names a missing texture, or a stray atlas).
+// All files are written atomically (mesh_io/atomic_file.h). A textured OBJ
+// is three files staged as one AtomicFileSet: image, MTL and OBJ are written
+// to temporaries first and renamed together only when all three are
+// complete, so a failure or an interruption leaves the previous set as it
+// was (never an OBJ that names a missing or newer texture).
 //
 // glTF conventions (glTF 2.0 specification, section 3.7 and 5.x):
 //  - TEXCOORD_0 has its origin at the image's top-left: t = 1 - v.

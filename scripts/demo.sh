@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
-# Install what is missing, build Release into build/, then run the demo.
-# Each step is one function below; later features add their own step.
+# Install what the demo needs (the build packages only), build the `texbake`
+# executable alone (not the tests or benchmarks) into build/, then run the
+# demo on data/ and say where its outputs are. Each demo step is one
+# function below; the times of set-up, build and demo are printed at the end.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
-texbake_build
-
+demo_t0=$SECONDS
+texbake_install_packages "${texbake_build_packages[@]}"
+demo_t1=$SECONDS
+texbake_build texbake
+demo_t2=$SECONDS
 texbake="$TEXBAKE_BUILD/texbake"
 sphere=(--proxy sphere --center 0,0,0 --radius 1 --pole 0,0,1 --equator 1,0,0)
 
@@ -78,3 +83,6 @@ demo_worked_example
 demo_bake_earth_bunny
 demo_bake_atlas_bunny
 demo_render_previews
+demo_t3=$SECONDS
+echo "== Done: outputs in $TEXBAKE_ROOT/out; look at out/bunny_earth_preview.png and out/bunny_atlas_preview.png first =="
+echo "   set-up $((demo_t1 - demo_t0)) s, build $((demo_t2 - demo_t1)) s, demo $((demo_t3 - demo_t2)) s"

@@ -13,6 +13,7 @@
 # target gives executions and time (build-fuzz/logs/<target>.log has the rest).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
+texbake_install_packages "${texbake_build_packages[@]}" "${texbake_test_packages[@]}"
 
 TEXBAKE_FUZZ_BUILD=${TEXBAKE_FUZZ_BUILD:-$TEXBAKE_ROOT/build-fuzz}
 texbake_fuzz_targets=(fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_off fuzz_mesh_stl fuzz_proxy_json fuzz_cli)

@@ -1,17 +1,25 @@
 #!/usr/bin/env bash
-# Shared set-up for scripts/test.sh and scripts/demo.sh: install the Debian
-# packages texbake builds with (only those missing), then configure and build
-# Release into build/. Source it; it defines TEXBAKE_ROOT and TEXBAKE_BUILD.
+# Shared set-up for scripts/test.sh and scripts/demo.sh. Source it; it
+# defines TEXBAKE_ROOT and TEXBAKE_BUILD and the functions below, and
+# installs nothing by itself:
+#   texbake_install_packages PKG...  apt-get install of those missing
+#   texbake_build [TARGET...]        configure Release into build/, build the
+#                                    targets (all when none is given)
+# texbake_build_packages are what the library and the `texbake` executable
+# build with (the demo needs only these); texbake_test_packages are added for
+# the test suite, the benchmarks and the fuzzers.
 set -euo pipefail
 
 TEXBAKE_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 TEXBAKE_BUILD=${TEXBAKE_BUILD:-$TEXBAKE_ROOT/build}
 
-texbake_packages=(
+texbake_build_packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libembree-dev libopenimageio-dev openimageio-tools
   libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libtinygltf-dev
+)
+texbake_test_packages=(
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev
 )
@@ -34,11 +42,26 @@ texbake_install_packages() {
   $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
 }
 
+# texbake_build [TARGET...]: with targets (the demo) the tests and
+# benchmarks are not configured, so their packages need not be installed.
 texbake_build() {
-  local jobs
+  local jobs targets=()
   jobs=$(nproc 2>/dev/null || echo 2)
-  cmake -S "$TEXBAKE_ROOT" -B "$TEXBAKE_BUILD" -DCMAKE_BUILD_TYPE=Release "$@"
-  cmake --build "$TEXBAKE_BUILD" --parallel "$jobs"
+  local suite=ON
+  if [ $# -gt 0 ]; then
+    suite=OFF
+    local t
+    for t in "$@"; do targets+=(--target "$t"); done
+  fi
+  # A build folder configured with the suite keeps it (a demo after the tests
+  # must not drop them from build/).
+  if [ -f "$TEXBAKE_BUILD/CMakeCache.txt" ] &&
+    grep -q '^TEXBAKE_BUILD_TESTS:BOOL=ON' "$TEXBAKE_BUILD/CMakeCache.txt"; then
+    suite=ON
+  fi
+  local launcher=()
+  if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+  cmake -S "$TEXBAKE_ROOT" -B "$TEXBAKE_BUILD" -DCMAKE_BUILD_TYPE=Release \
+    -DTEXBAKE_BUILD_TESTS=$suite -DTEXBAKE_BUILD_BENCH=$suite "${launcher[@]}" >/dev/null
+  cmake --build "$TEXBAKE_BUILD" --parallel "$jobs" "${targets[@]}"
 }
-
-texbake_install_packages "${texbake_packages[@]}"

@@ -11,7 +11,7 @@
 # TEXBAKE_QUICK=1 runs only stage 1 (for local runs); CI=true always runs all
 # three. Each stage prints its wall time.
 set -euo pipefail
-source "$(dirname "${BASH_SOURCE[0]}")/fuzz.sh"  # also sources setup.sh
+source "$(dirname "${BASH_SOURCE[0]}")/fuzz.sh"  # sources setup.sh, installs all packages
 
 TEXBAKE_ASAN_BUILD=${TEXBAKE_ASAN_BUILD:-$TEXBAKE_ROOT/build-asan}
 texbake_jobs=$(nproc 2>/dev/null || echo 2)

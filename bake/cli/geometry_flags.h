@@ -1,7 +1,9 @@
 // The shared geometry flags of SPEC section 5, used by map, bake, fit and
 // render: --proxy KIND | --proxy-file F, --center --radius --pole --equator
 // --axis --apex --height --base --normal --corners --origin --u-axis --v-axis,
-// and --up x|y|z|-x|-y|-z (the default pole/axis/normal; default z).
+// and --up x|y|z|-x|-y|-z (the default pole/axis/normal; default z). The
+// geometry flags, their types, help lines and which kinds take them come from
+// the parameter tables of mapping/proxy_schema.h.
 //
 // Values are checked while CLI11 parses: vectors "x,y,z", corners four
 // "x,y,z" separated by ';', numbers finite (no nan, inf, garbage or
@@ -15,7 +17,6 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
-#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -24,59 +25,77 @@
 
 #include "mapping/error.h"
 #include "mapping/proxy.h"
+#include "mapping/proxy_schema.h"
 
 namespace texbake::cli {
 
 struct GeometryFlags {
   std::optional<ProxyKind> kind;                    // --proxy
   std::optional<std::filesystem::path> proxy_file;  // --proxy-file
-  std::optional<Vec3> center, pole, equator, axis, apex, base, normal, origin, u_axis, v_axis;
-  std::optional<double> radius, height;
-  std::optional<std::array<Vec3, 4>> corners;
+  // The geometry flags given, by the key of their parameter (--u-axis is
+  // "u_axis"; mapping/proxy_schema.h), each of its parameter's type.
+  ParamValues values;
   std::optional<Vec3> up;  // --up as a unit vector (+-X, +-Y, +-Z)
 };
 
-// Parsers used by the flags, for other commands' own flags (e.g. map's
-// --point). They throw CLI::ValidationError naming `flag` on bad input:
-// call them inside a CLI11 option callback.
+// The parser of the vector flags, for other commands' own flags (e.g. map's
+// --point). Throws CLI::ValidationError naming `flag` on bad input: call it
+// inside a CLI11 option callback.
 Vec3 parse_vec3_flag(std::string_view text, const std::string& flag);
-double parse_number_flag(std::string_view text, const std::string& flag);
 
 // Registers all the flags above on `command`, writing into `flags` (which
-// must outlive parsing).
+// must outlive parsing): --proxy, --proxy-file, the parameters of
+// geometry_params() in its order with their help and type, then --up.
 void add_geometry_flags(CLI::App& command, GeometryFlags& flags);
 
 // --up, or +Z when not given.
 Vec3 up_direction(const GeometryFlags& flags);
 
-// The geometry flags given (not --proxy/--proxy-file), as "--center", ...
+// The geometry flags given (not --proxy/--proxy-file), as "--center", ...,
+// in geometry_params()'s order, then --up.
 std::vector<std::string> given_geometry_flags(const GeometryFlags& flags);
 
-// The flags a kind uses, e.g. sphere: --center --radius --pole --equator --up.
+// The flags a kind uses, in its table's order (proxy_fields), then --up if
+// the kind has a pole/axis/normal; e.g. sphere: --center --radius --pole
+// --equator --up.
 std::vector<std::string> flags_of_kind(ProxyKind kind);
 
-// The flags a kind needs that were not given (pole/axis/normal default to
-// --up and equator to the rule of mapping/proxy.h, so they are never missing).
-// `fit` fills exactly these from the mesh.
+// The flags a kind needs that were not given (missing_fields: pole/axis/
+// normal default to --up and equator to the rule of mapping/proxy.h, so they
+// are never missing). A fit fills these from the mesh.
 std::vector<std::string> missing_geometry_flags(const GeometryFlags& flags, ProxyKind kind);
 
+// The spec the flags give: --proxy's kind, the given values, --up.
+// Precondition: flags.kind is set.
+ProxySpec spec_from_flags(const GeometryFlags& flags);
+
 // Checks the combination (see the file comment). Errors: kInvalidArgument.
-// `require_proxy`: one of --proxy / --proxy-file must be given.
+// `require_proxy`: one of --proxy / --proxy-file must be given. With
+// --proxy KIND and a required flag missing (the rest is to be fitted), the
+// given values are checked too, before any mesh is read:
+// check_given_values names the flag of a zero --pole/--axis/--normal/
+// --equator/--u-axis/--v-axis or a --radius/--height <= 0 (e.g. "cone:
+// --height must be a finite number > 0 (got 0)"). A complete set of flags is
+// validated by make_proxy instead (proxy_from_flags).
 Status check_geometry_flags(const GeometryFlags& flags, bool require_proxy);
 
-// ProxyParams of `kind` from the flags alone; the error (kInvalidArgument)
-// names the first missing flag. Not validated: see make_proxy.
+// ProxyParams of `kind` from the flags alone (params_from_spec: directions
+// default to --up); the error (kInvalidArgument) names the first missing
+// flag: "missing --base for --proxy cylinder (needs --base, --radius,
+// --height)". Not validated: see make_proxy.
 Expected<ProxyParams> params_from_flags(const GeometryFlags& flags, ProxyKind kind);
 
 // `fitted` (e.g. from texbake fit) with every given geometry flag written
-// over it. --up is not applied (fit takes it as its axis hint). Error
-// (kInvalidArgument) if `fitted` is not of the --proxy kind.
+// over it (merge_spec). --up is not applied (fit takes it as its axis hint).
+// Error (kInvalidArgument) if `fitted` is not of the --proxy kind, or a
+// given flag is not one of its kind's.
 Expected<ProxyParams> merge_flags(const GeometryFlags& flags, ProxyParams fitted);
 
-// The whole path for commands that do not fit: check_geometry_flags, then
-// read --proxy-file (errors kIo/kParse: exit 1, naming file and key) or build
-// from the flags and validate with make_proxy (errors kInvalidArgument:
-// exit 2, naming the flag).
+// The whole path for commands that do not fit: check_geometry_flags's
+// combination checks (not the value checks, which are for a fit: a missing
+// flag is reported first), then read --proxy-file (errors kIo/kParse: exit 1, naming file and key)
+// or build from the flags and validate with make_proxy (errors kInvalidArgument: exit 2, naming the
+// flag).
 Expected<Proxy> proxy_from_flags(const GeometryFlags& flags);
 
 }  // namespace texbake::cli

@@ -46,6 +46,7 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
     const AtlasBakeOptions& bo = options.bake;
     auto t0 = Clock::now();
     progress.start("uv_layout", 1);
+    if (progress.cancelled()) return cancelled_error();
     UvLayoutOptions lo;
     lo.uv = options.uv;
     lo.atlas_size = bo.size;
@@ -79,6 +80,7 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
 
     Expected<AtlasBakeResult> baked = bake_atlas(atlas.mesh, image, proxy, bo, &progress);
     if (!baked) return detail::as_input(baked.error());
+    if (progress.cancelled()) return cancelled_error();  // a false at the very end counts too
     atlas.image = std::move(baked->atlas);
     Counts& c = atlas.stats.counts;
     c = detail::mesh_counts(mesh);

@@ -27,6 +27,7 @@ Expected<Rendered> render_mesh(const MeshData& mesh, const ColorSource& source,
     Expected<RenderImage> image =
         render_preview(mesh, *scene, source, options, &out.rays, &progress);
     if (!image) return image.error();
+    if (progress.cancelled()) return cancelled_error();  // a false at the very end counts too
     out.image = std::move(*image);
     out.stats.counts = detail::mesh_counts(mesh);
     out.stats.timings.render = seconds_since(t0);

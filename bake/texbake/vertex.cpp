@@ -24,6 +24,7 @@ Expected<VertexColors> bake(const MeshData& mesh, const ImageView& image, const 
   return detail::run_call<VertexColors>(run, [&]() -> Expected<VertexColors> {
     Expected<VertexBakeStage> sampled = bake_vertex_sample(mesh, image, proxy, options, &progress);
     if (!sampled) return detail::as_input(sampled.error());
+    if (progress.cancelled()) return cancelled_error();
     release();
     progress.start("fill", 1);
     Expected<VertexBakeResult> baked = bake_vertex_finish(mesh, std::move(sampled).value());

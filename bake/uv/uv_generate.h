@@ -2,23 +2,24 @@
 // for a triangle mesh.
 //
 // Pipeline (each stage deterministic: the output does not depend on the
-// thread count of bake/parallel.h):
+// thread count of bake/util/parallel.h; one source file per stage, see
+// uv_generate_internal.h):
 //  1. Charts are grown over MeshData::triangles by normal-cone region growing:
 //     a chart only crosses edges shared by exactly two consistently oriented
 //     triangles, so non-manifold edges, non-manifold vertices and orientation
 //     flips are chart borders. Saw-toothed borders are smoothed and charts
 //     below 1/2000 of the surface are merged into a neighbour.
-//  2. Every chart is made a topological disk (holes are cut open along
-//     shortest paths joining its border loops; other non-disks are split;
-//     charts above 65536 triangles are halved to bound the solve) and
-//     flattened by least-squares conformal maps (LSCM, Levy et al. 2002;
-//     a direct Eigen sparse solve). A chart whose map flips a triangle, whose
-//     border crosses itself, whose stretch exceeds max_chart_stretch or whose
-//     solve fails is split in two and retried (a single triangle always
-//     succeeds). Charts are then scaled so that UV area equals 3D area
-//     (uniform texel density) and rotated to their minimum-area bounding
-//     rectangle.
-//  3. Charts are packed as rasterised shapes (conservative coverage at the
+//  2. Every chart is cut into topological disks: holes are cut open along
+//     shortest paths joining its border loops; other non-disks, and pieces
+//     above 49152 triangles (to bound the solve), are halved.
+//  3. Every disk is flattened by least-squares conformal maps (LSCM, Levy et
+//     al. 2002; a direct Eigen sparse solve). A disk whose map flips a
+//     triangle, whose border crosses itself, whose stretch exceeds
+//     max_chart_stretch or whose solve fails is halved and goes back to 2 (a
+//     single triangle always succeeds). Charts are then scaled so that UV
+//     area equals 3D area (uniform texel density) and rotated to their
+//     minimum-area bounding rectangle.
+//  4. Charts are packed as rasterised shapes (conservative coverage at the
 //     atlas size) by bottom-left fill over column spans, trying four quarter
 //     turns, with at least `padding` empty texels between texels covered by
 //     different charts (none at the atlas edge). The global scale is searched

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "mesh_io/image_io.h"
@@ -245,6 +246,38 @@ TEST_F(BakeFitCli, AMeshThatCannotBeFittedExits1NamingItAndWritesNothing) {
   EXPECT_NE(r.err.find("texbake: error: "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("flat.off"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "o.ply"));
+}
+
+// Issue #12 item 11: a given value no fit can mend (a zero direction, a
+// radius or height <= 0) is the command line's fault, not the mesh's: exit
+// 2 naming the flag, reported before the mesh is read (here: a mesh that
+// does not exist, which would be exit 1) and writing nothing.
+TEST_F(BakeFitCli, ABadValueToFitAroundIsAUsageErrorNamingTheFlag) {
+  const std::string missing_mesh = q(dir_ / "no_such_mesh.off");
+  const std::string tex = " --texture " + q(ramp());
+  const std::pair<std::string, std::string> cases[] = {
+      {"bake " + missing_mesh + tex + " --proxy cylinder --axis 0,0,0 -o " + q(dir_ / "o.ply"),
+       "texbake: error: cylinder: --axis is the zero vector\n"},
+      {"bake " + missing_mesh + tex + " --proxy disk --normal 0,0,0 -o " + q(dir_ / "o.ply"),
+       "texbake: error: disk: --normal is the zero vector\n"},
+      {"bake " + missing_mesh + tex + " --proxy cone --height 0 -o " + q(dir_ / "o.ply"),
+       "texbake: error: cone: --height must be a finite number > 0 (got 0)\n"},
+      {"render " + missing_mesh + tex + " --proxy sphere --radius -1 -o " + q(dir_ / "o.png"),
+       "texbake: error: sphere: --radius must be a finite number > 0 (got -1)\n"},
+  };
+  for (const auto& [args, message] : cases) {
+    SCOPED_TRACE(args);
+    const RunResult r = run(args);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(r.err, message);
+    EXPECT_FALSE(fs::exists(dir_ / "o.ply"));
+    EXPECT_FALSE(fs::exists(dir_ / "o.png"));
+  }
+  // With a real mesh, the same (the check does not depend on the mesh).
+  const RunResult r = run("bake " + q(kData / "elephant.off") + tex +
+                          " --proxy cylinder --axis 0,0,0 --radius 2 -o " + q(dir_ / "o.ply"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "texbake: error: cylinder: --axis is the zero vector\n");
 }
 
 }  // namespace

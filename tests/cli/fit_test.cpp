@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "mapping/proxy.h"
 #include "mesh_io/proxy_json.h"
@@ -171,6 +172,35 @@ TEST_F(FitCli, FlatMeshCannotBeACylinderAndKeepsAnExistingOutput) {
   EXPECT_NE(r.err.find("square.off"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("no extent along the axis"), std::string::npos) << r.err;
   EXPECT_EQ(slurp(out), before);
+}
+
+// Issue #12 item 11: a given value the fit would be built around but that
+// no fit can mend is a usage error naming the flag (exit 2), found before
+// the mesh is read (the mesh here does not exist: reading it would be exit
+// 1); it used to be exit 1 blaming the mesh.
+TEST_F(FitCli, ABadValueToFitAroundExitsTwoNamingTheFlag) {
+  const std::string missing_mesh = quoted(dir_ / "no_such_mesh.off");
+  const std::pair<const char*, const char*> cases[] = {
+      {" --proxy cylinder --axis 0,0,0", "cylinder: --axis is the zero vector"},
+      {" --proxy cone --axis 0,0,0 --apex 0,0,1", "cone: --axis is the zero vector"},
+      {" --proxy disk --normal 0,0,0", "disk: --normal is the zero vector"},
+      {" --proxy sphere --pole 0,0,0", "sphere: --pole is the zero vector"},
+      {" --proxy cone --height 0", "cone: --height must be a finite number > 0 (got 0)"},
+      {" --proxy cone --height -1.5", "cone: --height must be a finite number > 0 (got -1.5)"},
+      {" --proxy cylinder --radius -2", "cylinder: --radius must be a finite number > 0 (got -2)"},
+      {" --proxy plane --u-axis 0,0,0", "plane: --u-axis is the zero vector"},
+  };
+  for (const auto& [flags, message] : cases) {
+    SCOPED_TRACE(flags);
+    const RunResult r = run("fit " + missing_mesh + flags);
+    EXPECT_EQ(r.exit_code, 2);
+    EXPECT_EQ(r.err, "texbake: error: " + std::string(message) + "\n");
+    EXPECT_TRUE(r.out.empty());
+  }
+  // The same with a mesh that can be fitted.
+  const RunResult r = run("fit " + quoted(kData / "elephant.off") + " --proxy cone --height 0");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "texbake: error: cone: --height must be a finite number > 0 (got 0)\n");
 }
 
 }  // namespace

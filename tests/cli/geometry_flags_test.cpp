@@ -21,18 +21,25 @@ GeometryFlags parse(std::vector<std::string> args) {
   return flags;
 }
 
+// The value of the given flag with this parameter key.
+template <class T>
+T given(const GeometryFlags& flags, const std::string& key) {
+  return std::get<T>(flags.values.at(key));
+}
+
 TEST(GeometryFlags, ParsesVectorsNumbersCornersAndUp) {
   const GeometryFlags f =
       parse({"--proxy", "quad", "--corners", "0,0,0; 4,0,0 ;4,2,0;0,2,-1e-3", "--up", "-y"});
   ASSERT_TRUE(f.kind.has_value());
   EXPECT_EQ(*f.kind, ProxyKind::kQuad);
-  ASSERT_TRUE(f.corners.has_value());
-  EXPECT_EQ((*f.corners)[1], (Vec3{4, 0, 0}));
-  EXPECT_EQ((*f.corners)[3], (Vec3{0, 2, -1e-3}));
+  ASSERT_TRUE(f.values.contains("corners"));
+  using Corners = std::array<Vec3, 4>;
+  EXPECT_EQ(given<Corners>(f, "corners")[1], (Vec3{4, 0, 0}));
+  EXPECT_EQ(given<Corners>(f, "corners")[3], (Vec3{0, 2, -1e-3}));
   EXPECT_EQ(up_direction(f), (Vec3{0, -1, 0}));
   const GeometryFlags g = parse({"--center", "+1.5,-2,3e2", "--radius", "0.25"});
-  EXPECT_EQ(*g.center, (Vec3{1.5, -2, 300}));
-  EXPECT_EQ(*g.radius, 0.25);
+  EXPECT_EQ(given<Vec3>(g, "center"), (Vec3{1.5, -2, 300}));
+  EXPECT_EQ(given<double>(g, "radius"), 0.25);
   EXPECT_EQ(up_direction(g), (Vec3{0, 0, 1}));
 }
 

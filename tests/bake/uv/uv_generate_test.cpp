@@ -1,4 +1,4 @@
-// Tests of bake/uv_generate.h (`--uv generate`, issue #4).
+// Tests of bake/uv/uv_generate.h (`--uv generate`, issue #4).
 //
 // Every atlas is checked by an independent rasteriser (check_atlas): texel
 // squares are tested against UV triangles by vertex/corner containment and

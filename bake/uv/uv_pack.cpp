@@ -1,0 +1,287 @@
+// Stage 4 of `--uv generate` (see uv_generate_internal.h): charts rasterised
+// at one scale (conservative coverage) and packed by bottom-left fill over
+// column spans.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "bake/util/parallel.h"
+#include "bake/uv/uv_generate_internal.h"
+
+namespace texbake::uv_detail {
+namespace {
+
+// Conservative coverage: does triangle (a, b, c) meet the square
+// [x0, x1] x [y0, y1]? Separating axes: the square's axes (by the caller's
+// bounding-box loop) and the triangle's three edge normals.
+bool triangle_meets_box(Vec2 a, Vec2 b, Vec2 c, double x0, double y0, double x1, double y1) {
+  const double orient = cross2(a, b, c);
+  const Vec2 v[3] = {a, b, c};
+  for (int k = 0; k < 3; ++k) {
+    const Vec2 p = v[k], q = v[(k + 1) % 3];
+    // Inside is where orient * cross(p, q, x) >= 0; the box is outside if even
+    // its best corner is strictly outside.
+    const double nx = -(q.y - p.y) * orient, ny = (q.x - p.x) * orient;
+    const double bx = nx > 0 ? x1 : x0, by = ny > 0 ? y1 : y0;
+    if (nx * (bx - p.x) + ny * (by - p.y) < 0) return false;
+  }
+  return true;
+}
+
+// Texel squares are grown by kCoverEps texel in the packer so that the
+// float32 rounding of the final UVs never makes a texel covered that the
+// packer did not see (float32 spacing near 1 is 6e-8, i.e. 1e-3 texel at 16384).
+constexpr double kCoverEps = 1e-2;
+
+// Column profiles of a raster in one of four rotations (counter-clockwise
+// quarter turns): width, height, lowest and highest covered row per column.
+struct Profile {
+  int w = 0, h = 0;
+  std::vector<int> bottom, top;
+};
+
+Profile profile(const ChartRaster& r, int rot) {
+  std::vector<int> col_lo(r.w, r.h), col_hi(r.w, -1), row_lo(r.h, r.w), row_hi(r.h, -1);
+  for (int j = 0; j < r.h; ++j) {
+    for (int i = 0; i < r.w; ++i) {
+      if (!r.bits[static_cast<std::size_t>(j) * r.w + i]) continue;
+      col_lo[i] = std::min(col_lo[i], j);
+      col_hi[i] = std::max(col_hi[i], j);
+      row_lo[j] = std::min(row_lo[j], i);
+      row_hi[j] = std::max(row_hi[j], i);
+    }
+  }
+  Profile p;
+  if (rot == 0) {  // (i, j) -> (i, j)
+    p = {r.w, r.h, col_lo, col_hi};
+  } else if (rot == 2) {  // (i, j) -> (w-1-i, h-1-j)
+    p.w = r.w, p.h = r.h;
+    p.bottom.resize(r.w), p.top.resize(r.w);
+    for (int c = 0; c < r.w; ++c) {
+      p.bottom[c] = r.h - 1 - col_hi[r.w - 1 - c];
+      p.top[c] = r.h - 1 - col_lo[r.w - 1 - c];
+    }
+  } else if (rot == 1) {  // (i, j) -> (h-1-j, i)
+    p.w = r.h, p.h = r.w;
+    p.bottom.resize(r.h), p.top.resize(r.h);
+    for (int c = 0; c < r.h; ++c) {
+      p.bottom[c] = row_lo[r.h - 1 - c];
+      p.top[c] = row_hi[r.h - 1 - c];
+    }
+  } else {  // (i, j) -> (j, w-1-i)
+    p.w = r.h, p.h = r.w;
+    p.bottom.resize(r.h), p.top.resize(r.h);
+    for (int c = 0; c < r.h; ++c) {
+      p.bottom[c] = r.w - 1 - row_hi[c];
+      p.top[c] = r.w - 1 - row_lo[c];
+    }
+  }
+  // A connected chart covers every column of its box; should one not, treat
+  // that column as fully covered (safe: it only reserves more space).
+  for (int c = 0; c < p.w; ++c) {
+    if (p.top[c] < p.bottom[c]) p.bottom[c] = 0, p.top[c] = p.h - 1;
+  }
+  return p;
+}
+
+// Occupied texels of the atlas, per column, as sorted disjoint closed row
+// intervals [first, last]. Placed charts enter dilated by the padding.
+class ColumnIntervals {
+ public:
+  explicit ColumnIntervals(int size) : cols_(size) {}
+
+  // Lowest row r >= y such that rows [r, r + len - 1] of column x meet no
+  // interval.
+  int lowest_free(int x, int y, int len) const {
+    const auto& col = cols_[x];
+    // First interval ending at or above y (ends are sorted: intervals are disjoint).
+    auto it =
+        std::lower_bound(col.begin(), col.end(), y,
+                         [](const std::pair<int, int>& s, int row) { return s.second < row; });
+    for (; it != col.end(); ++it) {
+      if (it->first > y + len - 1) return y;
+      y = it->second + 1;
+    }
+    return y;
+  }
+
+  // Adds rows [a, b] to column x, merging intervals that overlap or touch.
+  void insert(int x, int a, int b) {
+    auto& col = cols_[x];
+    auto it = std::lower_bound(col.begin(), col.end(), std::pair<int, int>{a, b});
+    it = col.insert(it, {a, b});
+    // Merge with neighbours that overlap or touch.
+    if (it != col.begin() && std::prev(it)->second >= a - 1) {
+      --it;
+      it->second = std::max(it->second, b);
+      col.erase(std::next(it));
+    }
+    while (std::next(it) != col.end() && std::next(it)->first <= it->second + 1) {
+      it->second = std::max(it->second, std::next(it)->second);
+      col.erase(std::next(it));
+    }
+  }
+
+ private:
+  std::vector<std::vector<std::pair<int, int>>> cols_;
+};
+
+}  // namespace
+
+ChartRaster rasterize_chart(const FlatChart& fc, double scale) {
+  ChartRaster r;
+  double x1 = 0, y1 = 0;
+  for (const Vec2& p : fc.uv) {
+    x1 = std::max(x1, p.x * scale + 0.5);
+    y1 = std::max(y1, p.y * scale + 0.5);
+  }
+  r.w = static_cast<int>(std::floor(x1 + kCoverEps)) + 1;
+  r.h = static_cast<int>(std::floor(y1 + kCoverEps)) + 1;
+  r.bits.assign(static_cast<std::size_t>(r.w) * r.h, 0);
+  for (const auto& c : fc.corner) {
+    const Vec2 a{fc.uv[c[0]].x * scale + 0.5, fc.uv[c[0]].y * scale + 0.5};
+    const Vec2 b{fc.uv[c[1]].x * scale + 0.5, fc.uv[c[1]].y * scale + 0.5};
+    const Vec2 d{fc.uv[c[2]].x * scale + 0.5, fc.uv[c[2]].y * scale + 0.5};
+    const int i0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, d.x}) - kCoverEps)));
+    const int i1 =
+        std::min(r.w - 1, static_cast<int>(std::floor(std::max({a.x, b.x, d.x}) + kCoverEps)));
+    const int j0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, d.y}) - kCoverEps)));
+    const int j1 =
+        std::min(r.h - 1, static_cast<int>(std::floor(std::max({a.y, b.y, d.y}) + kCoverEps)));
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        uint8_t& bit = r.bits[static_cast<std::size_t>(j) * r.w + i];
+        if (bit) continue;
+        if (triangle_meets_box(a, b, d, i - kCoverEps, j - kCoverEps, i + 1 + kCoverEps,
+                               j + 1 + kCoverEps)) {
+          bit = 1;
+          ++r.covered;
+        }
+      }
+    }
+  }
+  return r;
+}
+
+// Candidate positions are scored (top edge) * size + x; the columns of a
+// position are tested against ColumnIntervals, where placed charts enter
+// dilated by `padding`. Unlike a skyline packer, holes left under earlier
+// charts stay available to later ones.
+int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& order, int size,
+         int padding, int max_height, std::vector<Placement>& placed) {
+  ColumnIntervals occupied(size);
+  placed.assign(rasters.size(), {});
+  constexpr std::size_t kGrain = 128;
+  struct Best {
+    long score = std::numeric_limits<long>::max();
+    int x = 0, y = 0, rot = 0;
+  };
+  int used = 0;
+  Profile profiles[4];
+  // Lowest position of profile p at column x (y only grows while raising, so
+  // this ends after at most one raise per occupied span), or -1 when it
+  // cannot beat `bound` (score (top edge) * size + x) or exceeds max_height.
+  auto lowest = [&](const Profile& p, int x, long bound) {
+    int y = 0;
+    for (int c = 0, clean = 0; clean < p.w; c = c + 1 == p.w ? 0 : c + 1) {
+      const int len = p.top[c] - p.bottom[c] + 1;
+      const int free = occupied.lowest_free(x + c, y + p.bottom[c], len);
+      if (free == y + p.bottom[c]) {
+        ++clean;
+        continue;
+      }
+      y = free - p.bottom[c];
+      clean = 1;
+      if (y + p.h > max_height || (static_cast<long>(y) + p.h) * size + x >= bound) return -1;
+    }
+    return y;
+  };
+  for (uint32_t ci : order) {
+    Best best;
+    for (int rot = 0; rot < 4; ++rot) profiles[rot] = profile(rasters[ci], rot);
+    // Wide charts are first placed on every kStride-th column, then the best
+    // of those is refined column by column within +-kStride: the cost of a
+    // column is the chart's width, and a texel or two of horizontal slack
+    // rarely decides whether a wide chart fits.
+    const int stride = std::clamp(profiles[0].w / 32, 1, 4);
+    for (int rot = 0; rot < 4; ++rot) {
+      const Profile& p = profiles[rot];
+      if (p.w > size || p.h > max_height) continue;
+      // The best possible score of this turn (y = 0, x = 0) cannot win.
+      if (static_cast<long>(p.h) * size >= best.score) continue;
+      const std::size_t positions = static_cast<std::size_t>(size - p.w) / stride + 1;
+      // Fixed chunks of kGrain columns, one result slot each (parallel_for_chunks
+      // may split a range at any point, so chunks are indexed explicitly).
+      std::vector<Best> chunk_best((positions + kGrain - 1) / kGrain);
+      parallel_for_chunks(chunk_best.size(), 1, [&](std::size_t kb, std::size_t ke) {
+        for (std::size_t k = kb; k < ke; ++k) {
+          const std::size_t b = k * kGrain, e = std::min(positions, b + kGrain);
+          Best local = best;  // prune with what earlier rotations found (same for every chunk)
+          for (std::size_t i = b; i < e; ++i) {
+            const int x = static_cast<int>(i) * stride;
+            // Scores grow with x at equal height: nothing further right in
+            // this chunk can beat a position already found at y = 0.
+            if (static_cast<long>(p.h) * size + x >= local.score) break;
+            const int y = lowest(p, x, local.score);
+            if (y < 0) continue;
+            const long score = (static_cast<long>(y) + p.h) * size + x;
+            if (score < local.score) local = {score, x, y, rot};
+          }
+          chunk_best[k] = local;
+        }
+      });
+      for (const Best& cb : chunk_best) {
+        if (cb.score < best.score) best = cb;
+      }
+    }
+    if (stride > 1 && best.score != std::numeric_limits<long>::max()) {
+      const Profile& p = profiles[best.rot];
+      const int x0 = std::max(0, best.x - stride + 1),
+                x1 = std::min(size - p.w, best.x + stride - 1);
+      for (int x = x0; x <= x1; ++x) {
+        if (x == best.x) continue;
+        const int y = lowest(p, x, best.score);
+        if (y < 0) continue;
+        const long score = (static_cast<long>(y) + p.h) * size + x;
+        if (score < best.score) best = {score, x, y, best.rot};
+      }
+    }
+    if (best.score == std::numeric_limits<long>::max()) return -1;
+    placed[ci] = {best.x, best.y, best.rot};
+    const Profile& p = profiles[best.rot];
+    used = std::max(used, best.y + p.h);
+    for (int c = -padding; c < p.w + padding; ++c) {
+      const int x = best.x + c;
+      if (x < 0 || x >= size) continue;
+      int lo = std::numeric_limits<int>::max(), hi = -1;
+      for (int d = std::max(0, c - padding); d <= std::min(p.w - 1, c + padding); ++d) {
+        if (p.top[d] < p.bottom[d]) continue;
+        lo = std::min(lo, p.bottom[d]);
+        hi = std::max(hi, p.top[d]);
+      }
+      if (hi >= 0) occupied.insert(x, best.y + lo - padding, best.y + hi + padding);
+    }
+  }
+  return used;
+}
+
+Vec2 placed_texel(const ChartRaster& r, const Placement& pl, double scale, Vec2 p) {
+  const double x = p.x * scale + 0.5, y = p.y * scale + 0.5;
+  double u = x, v = y;
+  switch (pl.rot) {  // continuous versions of the rotations in profile()
+    case 1:
+      u = r.h - y, v = x;
+      break;
+    case 2:
+      u = r.w - x, v = r.h - y;
+      break;
+    case 3:
+      u = y, v = r.w - x;
+      break;
+    default:
+      break;
+  }
+  return {u + pl.x, v + pl.y};
+}
+
+}  // namespace texbake::uv_detail
