@@ -15,4 +15,16 @@ Rgba sample_bilinear(const ImageView& image, UV uv, WrapMode wrap_u, WrapMode wr
 float srgb_to_linear(float c);
 float linear_to_srgb(float c);
 
+// The same on R, G and B of a colour; alpha is never converted (SPEC section
+// 1 --linear). The one per-colour form of the curves: images, constants and
+// results all go through these.
+inline Rgba srgb_to_linear(Rgba c) {
+  for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear(c[k]);
+  return c;
+}
+inline Rgba linear_to_srgb(Rgba c) {
+  for (int k = 0; k < 3; ++k) c[k] = linear_to_srgb(c[k]);
+  return c;
+}
+
 }  // namespace texbake

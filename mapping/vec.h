@@ -1,4 +1,4 @@
-// Small value types for texbake's math: 3D vectors (double), texture
+// Small value types for texbake's math: 3D and 2D vectors (double), texture
 // coordinates and continuous pixel positions. Standard C++ only.
 #pragma once
 
@@ -65,10 +65,26 @@ struct UV {
   constexpr bool operator==(const UV&) const = default;
 };
 
+// A point or direction in a plane (chart coordinates, pixel positions).
+struct Vec2 {
+  double x = 0, y = 0;
+
+  constexpr Vec2 operator+(Vec2 o) const { return {x + o.x, y + o.y}; }
+  constexpr Vec2 operator-(Vec2 o) const { return {x - o.x, y - o.y}; }
+  constexpr Vec2 operator*(double s) const { return {x * s, y * s}; }
+  constexpr bool operator==(const Vec2&) const = default;
+};
+
+constexpr double dot(Vec2 a, Vec2 b) {
+  return a.x * b.x + a.y * b.y;
+}
+// The z component of (a, 0) x (b, 0): twice the signed area of (0, a, b).
+constexpr double cross(Vec2 a, Vec2 b) {
+  return a.x * b.y - a.y * b.x;
+}
+
 // Continuous pixel position: texel centres at integers, x to the right,
 // y down from the top row (the image's storage order).
-struct PixelPos {
-  double x = 0, y = 0;
-};
+using PixelPos = Vec2;
 
 }  // namespace texbake

@@ -8,13 +8,18 @@
 #include <cmath>
 #include <cstdint>
 
-#include "mapping/sample.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/regular_file.h"
 
 namespace texbake {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Above the largest ratio of decoded to stored bytes that PNG's deflate
+// (1032:1) and baseline JPEG (about 768:1 for a constant colour image) can
+// reach.
+constexpr long long kMaxCompressionRatio = 1100;
 
 Error image_error(ErrorCode code, const fs::path& path, const std::string& what) {
   return make_error(code, path.string() + ": " + what);
@@ -53,11 +58,10 @@ Status check_image_size(long long width, long long height, int channels) {
 }
 
 Expected<Image> read_image(const fs::path& path) {
+  // Before OIIO opens it: a FIFO would block, a device never end.
+  if (Status s = check_regular_file(path, "an image"); !s) return s.error();
   std::error_code ec;
-  const fs::file_status st = fs::status(path, ec);
-  if (ec || !fs::exists(st)) return image_error(ErrorCode::kIo, path, "no such file");
-  if (fs::is_directory(st)) return image_error(ErrorCode::kIo, path, "is a folder, not an image");
-  if (fs::is_regular_file(st) && fs::file_size(path, ec) == 0) {
+  if (fs::file_size(path, ec) == 0) {
     return image_error(ErrorCode::kParse, path, "the file is empty (0 bytes)");
   }
   // Keep the stored values (SPEC section 1): without this OIIO premultiplies
@@ -78,53 +82,88 @@ Expected<Image> read_image(const fs::path& path) {
   if (Status s = check_image_size(w, h, spec.nchannels); !s) {
     return image_error(ErrorCode::kParse, path, s.error().message);
   }
-  const int nc = spec.nchannels;
-  // Reads into float: OIIO scales integer formats to [0, 1] (uint8 / 255,
-  // uint16 / 65535) and keeps float values.
-  std::vector<float> raw(static_cast<std::size_t>(w * h) * nc);
-  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::FLOAT, raw.data())) {
-    return image_error(ErrorCode::kParse, path,
-                       "cannot decode (truncated or corrupt?): " + first_line(in->geterror()));
+  // PNG (deflate) and JPEG cannot compress by more than about 1032:1 and
+  // 768:1 (a constant image): a file that small cannot hold its declared size.
+  const std::string format = in->format_name();
+  if (format == "png" || format == "jpeg") {
+    const long long raw = w * h * spec.nchannels * static_cast<long long>(spec.format.size());
+    const auto bytes = static_cast<long long>(fs::file_size(path, ec));
+    if (!ec && raw / kMaxCompressionRatio > bytes) {
+      return image_error(ErrorCode::kParse, path,
+                         "declares " + std::to_string(w) + " x " + std::to_string(h) +
+                             " pixels, more than a " + std::to_string(bytes) + "-byte " + format +
+                             " file can hold (truncated or lying header)");
+    }
   }
-  // libjpeg and friends report some damage only as a warning-level error
-  // that leaves read_image() true; treat any pending error as failure.
-  if (in->has_error()) {
-    return image_error(ErrorCode::kParse, path,
-                       "cannot decode (truncated or corrupt?): " + first_line(in->geterror()));
+  const int nc = spec.nchannels;
+  const int alpha = nc == 2 ? 1 : nc == 4 ? 3 : (spec.alpha_channel >= 3 ? spec.alpha_channel : -1);
+  // Decoded in bands of rows (a band is one tile row for tiled files), each
+  // converted to RGBA at once: the decoded values of the whole image are
+  // never held beside the result. The result is allocated only once the
+  // first band has decoded, so a small file whose header claims a huge size
+  // fails before texbake allocates for it (issue #12).
+  const int band_rows =
+      static_cast<int>(std::clamp<long long>(spec.tile_height > 0 ? spec.tile_height : 64, 1, h));
+  std::vector<float> band;
+  Image img;
+  std::size_t nonfinite = 0;
+  auto decode_error = [&](const std::string& why) {
+    return image_error(ErrorCode::kParse, path, "cannot decode (truncated or corrupt?): " + why);
+  };
+  try {
+    band.resize(static_cast<std::size_t>(w) * band_rows * nc);
+    for (long long y0 = 0; y0 < h; y0 += band_rows) {
+      const long long y1 = std::min<long long>(h, y0 + band_rows);
+      // Reads into float: OIIO scales integer formats to [0, 1] (uint8 / 255,
+      // uint16 / 65535) and keeps float values.
+      const bool ok =
+          spec.tile_width > 0
+              ? in->read_tiles(0, 0, spec.x, spec.x + static_cast<int>(w),
+                               spec.y + static_cast<int>(y0), spec.y + static_cast<int>(y1), spec.z,
+                               spec.z + 1, 0, nc, OIIO::TypeDesc::FLOAT, band.data())
+              : in->read_scanlines(0, 0, spec.y + static_cast<int>(y0),
+                                   spec.y + static_cast<int>(y1), spec.z, 0, nc,
+                                   OIIO::TypeDesc::FLOAT, band.data());
+      // libjpeg and friends report some damage only as a warning-level
+      // error that leaves the read true; treat any pending error as failure.
+      if (!ok || in->has_error()) return decode_error(first_line(in->geterror()));
+      if (y0 == 0) {
+        img.width = static_cast<int>(w);
+        img.height = static_cast<int>(h);
+        img.pixels.resize(static_cast<std::size_t>(w * h) * 4);
+      }
+      const std::size_t first = static_cast<std::size_t>(y0 * w);
+      const std::size_t n = static_cast<std::size_t>((y1 - y0) * w);
+      for (std::size_t i = 0; i < n; ++i) {
+        const float* src = &band[i * nc];
+        float* d = &img.pixels[(first + i) * 4];
+        if (nc < 3) {
+          d[0] = d[1] = d[2] = src[0];
+        } else {
+          d[0] = src[0];
+          d[1] = src[1];
+          d[2] = src[2];
+        }
+        d[3] = alpha >= 0 ? src[alpha] : 1.f;
+        // NaN or infinity would poison every interpolation that touches the
+        // texel (0 x inf is NaN): read as 0 and counted (Image::nonfinite_values).
+        for (int k = 0; k < 4; ++k) {
+          if (!std::isfinite(d[k])) {
+            d[k] = 0.f;
+            ++nonfinite;
+          }
+        }
+      }
+    }
+  } catch (const std::bad_alloc&) {
+    return image_error(ErrorCode::kIo, path,
+                       "not enough memory to decode " + std::to_string(w) + " x " +
+                           std::to_string(h) + " pixels (" + std::to_string((w * h * 16) >> 20) +
+                           " MiB as float RGBA)");
   }
   in->close();
-
-  Image img;
-  img.width = static_cast<int>(w);
-  img.height = static_cast<int>(h);
-  img.pixels.resize(static_cast<std::size_t>(w * h) * 4);
-  const int alpha = nc == 2 ? 1 : nc == 4 ? 3 : (spec.alpha_channel >= 3 ? spec.alpha_channel : -1);
-  const std::size_t n = static_cast<std::size_t>(w * h);
-  for (std::size_t i = 0; i < n; ++i) {
-    const float* s = &raw[i * nc];
-    float* d = &img.pixels[i * 4];
-    if (nc < 3) {
-      d[0] = d[1] = d[2] = s[0];
-    } else {
-      d[0] = s[0];
-      d[1] = s[1];
-      d[2] = s[2];
-    }
-    d[3] = alpha >= 0 ? s[alpha] : 1.f;
-  }
+  img.nonfinite_values = nonfinite;
   return img;
-}
-
-void srgb_to_linear_in_place(Image& image) {
-  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
-    for (int k = 0; k < 3; ++k) image.pixels[i + k] = srgb_to_linear(image.pixels[i + k]);
-  }
-}
-
-void linear_to_srgb_in_place(Image& image) {
-  for (std::size_t i = 0; i < image.pixels.size(); i += 4) {
-    for (int k = 0; k < 3; ++k) image.pixels[i + k] = linear_to_srgb(image.pixels[i + k]);
-  }
 }
 
 namespace {

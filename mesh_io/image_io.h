@@ -9,8 +9,13 @@
 //   more: the first three as RGB, alpha from the file's alpha channel or 1.
 // Integer formats are scaled to [0, 1] (uint8 / 255, uint16 / 65535); float
 // formats keep their values. No colour-space conversion happens on reading.
-// Errors (file named): missing, a folder, unreadable, not an image, truncated
-// or 0-pixel images.
+// NaN and infinite values (float formats) are read as 0 and counted in
+// Image::nonfinite_values. Pixels are decoded in bands of rows (tile rows
+// for tiled files) and the result is allocated after the first band has
+// decoded, so a small file with a lying header fails before any large
+// allocation; running out of memory is an error naming the file.
+// Errors (file named): missing, not a regular file (a folder, a FIFO, a
+// device), unreadable, not an image, truncated or 0-pixel images.
 //
 // Writing goes through write_atomically (temporary name keeps the real
 // extension last, from which OIIO picks the format): .png as 8-bit (default)
@@ -36,6 +41,9 @@ struct Image {
   int width = 0;
   int height = 0;
   std::vector<float> pixels;  // width * height * 4, top row first
+  // read_image: NaN or infinite values in the file, read as 0 (a float
+  // texture's holes must not poison interpolation); callers warn about them.
+  std::size_t nonfinite_values = 0;
 
   ImageView view() const { return {width, height, pixels.data()}; }
 };
@@ -53,11 +61,10 @@ inline constexpr long long kMaxImagePixels = 1ll << 28;
 inline constexpr long long kMaxImageValues = 1ll << 30;
 Status check_image_size(long long width, long long height, int channels);
 
-// sRGB -> linear (mapping/sample.h's srgb_to_linear) on R, G, B of every
-// pixel; alpha is left alone. For `--linear` (SPEC section 1).
-void srgb_to_linear_in_place(Image& image);
-// The inverse, linear -> sRGB on R, G, B.
-void linear_to_srgb_in_place(Image& image);
+// The largest side of a square texture atlas texbake bakes or lays out
+// (SPEC section 4 / issue #4): the largest square image read_image reads back.
+inline constexpr int kMaxAtlasSize = 16384;
+static_assert(static_cast<long long>(kMaxAtlasSize) * kMaxAtlasSize == kMaxImagePixels);
 
 enum class ImageBitDepth {
   k8,      // PNG default

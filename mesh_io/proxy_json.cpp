@@ -12,6 +12,7 @@
 
 #include "mapping/proxy_schema.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/regular_file.h"
 
 namespace texbake {
 
@@ -215,6 +216,8 @@ Expected<Proxy> read_proxy_file(const std::filesystem::path& path) {
     return make_error(ErrorCode::kIo,
                       "cannot read proxy file " + path.string() + ": it is a folder");
   }
+  // A FIFO or a link to /dev/zero would block or be read until memory runs out.
+  if (Status s = check_text_file(path, "a proxy file"); !s) return s.error();
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     return make_error(ErrorCode::kIo,

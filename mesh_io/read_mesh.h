@@ -3,13 +3,18 @@
 // MeshData, converted once.
 //
 // Contract:
-// - Vertices keep the file's order and count, unreferenced ones included.
+// - Vertices keep the file's order and count, unreferenced ones included;
+//   except STL, which has no shared vertices: corners at equal positions
+//   become one vertex (in order of first appearance) and triangles that then
+//   repeat a vertex are dropped.
 // - Faces keep the file's polygons (CSR), non-manifold ones included: an edge
 //   shared by three faces keeps all three (OpenMesh's halfedge meshes would
 //   drop them, so the readers fill MeshData through a custom importer).
 // - `triangles` is the triangulation of the faces (fan for convex polygons,
 //   ear clipping otherwise) without zero-area triangles.
-// - Errors (kIo: missing, unreadable, a folder; kParse: unknown extension,
+// - Errors (kIo: missing, unreadable, a folder, not a regular file (a FIFO,
+//   a device; checked before anything opens it, see regular_file.h);
+//   kParse: unknown extension,
 //   truncated or lying header, NaN/inf coordinates, out-of-range or negative
 //   indices, no faces) name the file and, where known, the line or element.
 // - Work limits (issue #7; a small hostile file must not run for minutes
@@ -17,7 +22,7 @@
 //   size before allocating; a polygon has at most 16384 corners (else
 //   kParse); non-convex polygons above 512 corners are fanned, not ear
 //   clipped; an OBJ `mtllib` naming something other than a regular file
-//   (a folder, a device) is kParse.
+//   (a folder, a device) or one above kMaxTextFileBytes (16 MiB) is kParse.
 // - Degenerate triangles, unreferenced vertices and non-manifold edges are
 //   not errors: they are counted in MeshIssues.
 // - Thread-safe (OpenMesh's reader singletons are serialised internally).

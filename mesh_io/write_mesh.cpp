@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <string>
 
 #include "mesh_io/atomic_file.h"
@@ -48,6 +49,13 @@ void append_float(std::string& out, float v) {
   char buf[32];
   auto r = std::to_chars(buf, buf + sizeof buf, v);
   out.append(buf, r.ptr);
+}
+// Appends " a b c" (each value after a space), in append_float's form.
+void append_floats(std::string& out, std::initializer_list<float> values) {
+  for (float v : values) {
+    out += ' ';
+    append_float(out, v);
+  }
 }
 void append_uint(std::string& out, uint64_t v) {
   char buf[24];
@@ -180,37 +188,26 @@ Status write_obj(const fs::path& path, const MeshData& mesh, const MeshWriteOpti
   out.reserve(mesh.vertex_count() * 48 + mesh.face_vertices.size() * 16);
   for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
     const Float3& q = mesh.positions[v];
-    out += "v ";
-    append_float(out, q.x);
-    out += ' ';
-    append_float(out, q.y);
-    out += ' ';
-    append_float(out, q.z);
+    out += 'v';
+    append_floats(out, {q.x, q.y, q.z});
     if (!ci.colours.empty()) {
-      for (int k = 0; k < 3; ++k) {
-        out += ' ';
-        append_float(out, colour_to_byte(ci.colours[v][k]) / 255.f);
-      }
+      const auto& c = ci.colours[v];
+      append_floats(out, {colour_to_byte(c[0]) / 255.f, colour_to_byte(c[1]) / 255.f,
+                          colour_to_byte(c[2]) / 255.f});
     }
     out += '\n';
   }
   if (uvs) {
     for (const Float2& t : mesh.uvs) {
-      out += "vt ";
-      append_float(out, t.u);
-      out += ' ';
-      append_float(out, t.v);
+      out += "vt";
+      append_floats(out, {t.u, t.v});
       out += '\n';
     }
   }
   if (normals) {
     for (const Float3& n : mesh.normals) {
-      out += "vn ";
-      append_float(out, n.x);
-      out += ' ';
-      append_float(out, n.y);
-      out += ' ';
-      append_float(out, n.z);
+      out += "vn";
+      append_floats(out, {n.x, n.y, n.z});
       out += '\n';
     }
   }
@@ -255,9 +252,12 @@ Status write_mesh(const fs::path& path, const MeshData& mesh, const MeshWriteOpt
   const std::string ext = lower_extension(path);
   if (ext == ".ply") return write_ply(path, mesh, options);
   if (ext == ".obj") return write_obj(path, mesh, options);
-  if (ext == ".glb") {
-    return make_error(ErrorCode::kUnsupported,
-                      "cannot write " + path.string() + ": glTF output is not available yet");
+  if (ext == ".glb") {  // a caller bug: GLB has writers of its own
+    return make_error(
+        ErrorCode::kUnsupported,
+        "cannot write " + path.string() +
+            ": write_mesh writes .ply and .obj; GLB goes through "
+            "write_vertex_color_glb or write_textured_mesh (mesh_io/write_textured.h)");
   }
   return make_error(ErrorCode::kUnsupported, "cannot write " + path.string() +
                                                  ": unknown mesh format '" + ext +

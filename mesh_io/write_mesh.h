@@ -18,7 +18,8 @@
 //   with v/vt/vn indices; with `obj_material_texture` set, also an MTL file
 //   beside it (same stem, .mtl) whose map_Kd names that texture.
 // - The format comes from the extension (.ply, .obj; case-insensitive).
-//   .glb is reserved for the glTF writer (issue #4): kUnsupported for now.
+//   Any other extension is kUnsupported; .glb included, whose writers are
+//   write_vertex_color_glb and write_textured_mesh (mesh_io/write_textured.h).
 #pragma once
 
 #include <array>

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "bake/shade/sample_pattern.h"
 #include "bake/util/parallel.h"
 #include "mapping/image_view.h"
 
@@ -21,16 +22,7 @@ constexpr int kBandRows = kAtlasBandRows;
 // never drop a texel that a lookup can reach (extra coverage is harmless).
 constexpr double kCoverSlack = 1e-7;
 
-using P2 = AtlasBands::Point;
-inline P2 operator-(P2 a, P2 b) {
-  return {a.x - b.x, a.y - b.y};
-}
-inline double dot2(P2 a, P2 b) {
-  return a.x * b.x + a.y * b.y;
-}
-inline double cross2(P2 a, P2 b) {
-  return a.x * b.y - a.y * b.x;
-}
+using P2 = PixelPos;
 
 using TriPx = std::array<P2, 3>;  // corners in continuous pixel coordinates
 
@@ -41,9 +33,9 @@ struct Bary {
 // Closest point of segment ab to p, as barycentrics (1 - t, t).
 inline double segment_param(P2 p, P2 a, P2 b) {
   const P2 ab = b - a;
-  const double len2 = dot2(ab, ab);
+  const double len2 = dot(ab, ab);
   if (len2 <= 0) return 0;
-  return std::clamp(dot2(p - a, ab) / len2, 0.0, 1.0);
+  return std::clamp(dot(p - a, ab) / len2, 0.0, 1.0);
 }
 
 // Closest point of triangle abc to p, as barycentrics. Ericson, Real-Time
@@ -52,8 +44,8 @@ inline double segment_param(P2 p, P2 a, P2 b) {
 // Ericson's denominators vanish.
 Bary closest_barycentric(P2 p, P2 a, P2 b, P2 c) {
   const P2 ab = b - a, ac = c - a;
-  const double area2 = cross2(ab, ac);
-  if (std::abs(area2) <= 1e-12 * (dot2(ab, ab) + dot2(ac, ac))) {
+  const double area2 = cross(ab, ac);
+  if (std::abs(area2) <= 1e-12 * (dot(ab, ab) + dot(ac, ac))) {
     const double t_ab = segment_param(p, a, b), t_ac = segment_param(p, a, c),
                  t_bc = segment_param(p, b, c);
     const Bary cand[3] = {{1 - t_ab, t_ab, 0}, {1 - t_ac, 0, t_ac}, {0, 1 - t_bc, t_bc}};
@@ -61,16 +53,16 @@ Bary closest_barycentric(P2 p, P2 a, P2 b, P2 c) {
     double best_d = std::numeric_limits<double>::infinity();
     for (const Bary& q : cand) {
       const P2 x{q.b0 * a.x + q.b1 * b.x + q.b2 * c.x, q.b0 * a.y + q.b1 * b.y + q.b2 * c.y};
-      const double d = dot2(p - x, p - x);
+      const double d = dot(p - x, p - x);
       if (d < best_d) best_d = d, best = q;
     }
     return best;
   }
   const P2 ap = p - a;
-  const double d1 = dot2(ab, ap), d2 = dot2(ac, ap);
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
   if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
   const P2 bp = p - b;
-  const double d3 = dot2(ab, bp), d4 = dot2(ac, bp);
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
   if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0 && d1 >= 0 && d3 <= 0) {
@@ -78,7 +70,7 @@ Bary closest_barycentric(P2 p, P2 a, P2 b, P2 c) {
     return {1 - v, v, 0};
   }
   const P2 cp = p - c;
-  const double d5 = dot2(ab, cp), d6 = dot2(ac, cp);
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
   if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) {
@@ -99,9 +91,9 @@ Bary closest_barycentric(P2 p, P2 a, P2 b, P2 c) {
 // included), else false.
 inline bool contains(const TriPx& t, P2 p, double* b1, double* b2) {
   const P2 ab = t[1] - t[0], ac = t[2] - t[0], ap = p - t[0];
-  const double area2 = cross2(ab, ac);
+  const double area2 = cross(ab, ac);
   if (area2 == 0) return false;
-  const double c1 = cross2(ap, ac), c2 = cross2(ab, ap);
+  const double c1 = cross(ap, ac), c2 = cross(ab, ap);
   // Sign test first: dividing by area2 keeps the signs, so this rejects only
   // points the exact test below rejects too, without its two divisions (the
   // rasteriser's hot spot on dense meshes: most candidates fail here).
@@ -126,7 +118,7 @@ struct EdgeAxes {
     for (int k = 0; k < 3; ++k) {
       const P2 e = t[(k + 1) % 3] - t[k];
       n[k] = {-e.y, e.x};
-      const double a = dot2(n[k], t[0]), b = dot2(n[k], t[1]), c = dot2(n[k], t[2]);
+      const double a = dot(n[k], t[0]), b = dot(n[k], t[1]), c = dot(n[k], t[2]);
       lo[k] = std::min({a, b, c});
       hi[k] = std::max({a, b, c});
       reach[k] = h * (std::abs(n[k].x) + std::abs(n[k].y));
@@ -134,21 +126,12 @@ struct EdgeAxes {
   }
   bool overlaps(P2 centre) const {
     for (int k = 0; k < 3; ++k) {
-      const double c = dot2(n[k], centre);
+      const double c = dot(n[k], centre);
       if (c + reach[k] < lo[k] || c - reach[k] > hi[k]) return false;
     }
     return true;
   }
 };
-
-uint32_t radical_inverse_2(uint32_t s) {
-  s = (s << 16) | (s >> 16);
-  s = ((s & 0x00ff00ffu) << 8) | ((s & 0xff00ff00u) >> 8);
-  s = ((s & 0x0f0f0f0fu) << 4) | ((s & 0xf0f0f0f0u) >> 4);
-  s = ((s & 0x33333333u) << 2) | ((s & 0xccccccccu) >> 2);
-  s = ((s & 0x55555555u) << 1) | ((s & 0xaaaaaaaau) >> 1);
-  return s;
-}
 
 }  // namespace
 
@@ -158,7 +141,7 @@ SampleOffset sample_offset(int s, int n) {
   if (k * k == n) {
     return {(s % k + 0.5) / k - 0.5, (s / k + 0.5) / k - 0.5};
   }
-  const double y = radical_inverse_2(static_cast<uint32_t>(s)) * 0x1p-32 + 0.5 / n;
+  const double y = radical_inverse2(static_cast<uint32_t>(s)) + 0.5 / n;
   return {(s + 0.5) / n - 0.5, (y - std::floor(y)) - 0.5};
 }
 
@@ -327,7 +310,7 @@ void AtlasBands::rasterize(std::size_t band, AtlasRaster& out, AtlasBandScratch&
           const Bary w = closest_barycentric(q, p[0], p[1], p[2]);
           const P2 cp{w.b0 * p[0].x + w.b1 * p[1].x + w.b2 * p[2].x,
                       w.b0 * p[0].y + w.b1 * p[1].y + w.b2 * p[2].y};
-          const double d = dot2(q - cp, q - cp);
+          const double d = dot(q - cp, q - cp);
           if (d < best) best = d, chosen = cand[k], b1 = w.b1, b2 = w.b2;
         }
         ++out.border_samples;

@@ -28,11 +28,12 @@
 #include <vector>
 
 #include "mapping/error.h"
+#include "mapping/vec.h"
+#include "mesh_io/image_io.h"  // kMaxAtlasSize
 #include "mesh_io/mesh_data.h"
 
 namespace texbake {
 
-inline constexpr int kMaxAtlasSize = 16384;  // SPEC section 4 / issue #4
 inline constexpr int kMaxAtlasSamples = 256;
 
 struct AtlasRasterOptions {
@@ -111,17 +112,13 @@ class AtlasBands {
   // Thread-safe for distinct out / scratch.
   void rasterize(std::size_t band, AtlasRaster& out, AtlasBandScratch& scratch) const;
 
-  struct Point {  // continuous pixel coordinates (SPEC section 1)
-    double x, y;
-  };
-
  private:
   int size_ = 0;
   int samples_ = 0;
-  std::vector<std::array<Point, 3>> px_;  // corners in continuous pixel coordinates
-  std::vector<int> row_lo_, row_hi_;      // dilated row range per triangle (lo > hi: none)
-  std::vector<uint32_t> band_start_;      // CSR over band_tris_
-  std::vector<uint32_t> band_tris_;       // triangles per band, ascending
+  std::vector<std::array<PixelPos, 3>> px_;  // corners in continuous pixel coordinates
+  std::vector<int> row_lo_, row_hi_;         // dilated row range per triangle (lo > hi: none)
+  std::vector<uint32_t> band_start_;         // CSR over band_tris_
+  std::vector<uint32_t> band_tris_;          // triangles per band, ascending
   std::vector<SampleOffset> offsets_;
 };
 

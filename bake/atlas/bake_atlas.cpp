@@ -9,6 +9,7 @@
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/dilate.h"
+#include "bake/shade/shade.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
@@ -25,14 +26,7 @@ constexpr std::size_t kTexelBatch = 1024;
 
 struct SampleContext {
   const MeshData* mesh = nullptr;
-  ImageView image;  // linear copy with shading.linear
-  WrapMode wrap_u = WrapMode::kClamp, wrap_v = WrapMode::kClamp;
-  bool no_outside = false;
-  bool outside_constant = false;
-  bool linear = false;
-  Rgba outside_color{};   // working encoding
-  Rgba occluded_color{};  // working encoding
-  OccludedMode occluded = OccludedMode::kFill;
+  ShadeRule shade;  // image and constants in the working encoding
   const EmbreeScene* scene = nullptr;
   double ray_offset = 0;
   // Per vertex, working encoding: the fill, when computed before the pass
@@ -89,12 +83,10 @@ inline void add_fill(const MeshData& mesh, const std::vector<Rgba>& vc, uint32_t
 // The texel mean into the atlas (back to sRGB when working in linear).
 inline void store_texel(const SampleContext& ctx, uint32_t t, const std::array<double, 4>& acc,
                         std::size_t spt) {
-  float* px = ctx.atlas + static_cast<std::size_t>(t) * 4;
-  for (int ch = 0; ch < 4; ++ch) {
-    float v = static_cast<float>(acc[ch] / static_cast<double>(spt));
-    if (ctx.linear && ch < 3) v = linear_to_srgb(v);
-    px[ch] = v;
-  }
+  Rgba mean;
+  for (int ch = 0; ch < 4; ++ch) mean[ch] = static_cast<float>(acc[ch] / static_cast<double>(spt));
+  mean = ctx.shade.stored(mean);
+  std::copy(mean.begin(), mean.end(), ctx.atlas + static_cast<std::size_t>(t) * 4);
   ctx.baked[t] = 1;
 }
 
@@ -137,32 +129,18 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
     for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
       const MapResult& m = w.maps[s - s0];
       const bool visible = w.visible[s - s0] != 0;
-      Rgba c;
       if (m.status == MapStatus::kUndefined) {
         ++counts.undefined;
-        if (ctx.occluded != OccludedMode::kColor) {
-          any_fill = true;
-          continue;
-        }
-        c = ctx.occluded_color;
-      } else if (!visible && ctx.occluded != OccludedMode::kProject) {
+      } else if (!visible) {
         ++counts.occluded;
-        if (ctx.occluded != OccludedMode::kColor) {
-          any_fill = true;
-          continue;
-        }
-        c = ctx.occluded_color;
-      } else {
-        if (!visible) ++counts.occluded;
-        if (m.status == MapStatus::kOutside && !ctx.no_outside) {
-          ++counts.outside;
-          c = ctx.outside_constant ? ctx.outside_color
-                                   : sample_bilinear(ctx.image, m.uv, ctx.wrap_u, ctx.wrap_v);
-        } else {
-          c = sample_bilinear(ctx.image, m.uv, ctx.wrap_u, ctx.wrap_v);
-        }
       }
-      for (int ch = 0; ch < 4; ++ch) acc[ch] += c[ch];
+      const Shaded c = ctx.shade.shade(m, visible);
+      if (c.kind == Shade::kFill) {
+        any_fill = true;
+        continue;
+      }
+      if (c.kind == Shade::kOutside) ++counts.outside;
+      for (int ch = 0; ch < 4; ++ch) acc[ch] += c.color[ch];
     }
     const uint32_t t = r.texels[k];
     if (!any_fill) {
@@ -178,10 +156,7 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
       later = &w.deferred.texels.back();
     }
     for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
-      const MapResult& m = w.maps[s - s0];
-      const bool fill = m.status == MapStatus::kUndefined ||
-                        (!w.visible[s - s0] && ctx.occluded == OccludedMode::kFill);
-      if (!fill) continue;
+      if (!ctx.shade.needs_fill(w.maps[s - s0], w.visible[s - s0] != 0)) continue;
       if (later) {
         w.deferred.samples.push_back({r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]});
         ++later->count;
@@ -243,8 +218,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
     if (!vertex) return vertex.error();
     std::vector<Rgba> vc = std::move(vertex->colors);  // sRGB-encoded
     if (sh.linear) {
-      for (Rgba& c : vc)
-        for (int k = 0; k < 3; ++k) c[k] = srgb_to_linear(c[k]);
+      for (Rgba& c : vc) c = srgb_to_linear(c);
     }
     return vc;
   };
@@ -267,35 +241,10 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
 
   // 2. Sample.
   t0 = Clock::now();
-  std::vector<float> linear_pixels;
+  const WorkingImage working = working_image(image, sh.linear);
   SampleContext ctx;
   ctx.mesh = &mesh;
-  ctx.image = image;
-  ctx.linear = sh.linear;
-  if (sh.linear) {
-    linear_pixels.assign(image.data,
-                         image.data + static_cast<std::size_t>(image.width) * image.height * 4);
-    for (std::size_t i = 0; i < linear_pixels.size(); i += 4) {
-      for (int c = 0; c < 3; ++c) linear_pixels[i + c] = srgb_to_linear(linear_pixels[i + c]);
-    }
-    ctx.image.data = linear_pixels.data();
-  }
-  ctx.wrap_u = wrap_u(proxy);
-  ctx.wrap_v = wrap_v(proxy);
-  if (std::holds_alternative<Plane>(proxy) && sh.plane_wrap == WrapMode::kRepeat) {
-    ctx.wrap_u = ctx.wrap_v = WrapMode::kRepeat;
-    ctx.no_outside = true;
-  }
-  ctx.outside_constant = sh.outside == OutsideMode::kColor;
-  ctx.outside_color = sh.outside_color;
-  ctx.occluded_color = sh.occluded_color;
-  if (sh.linear) {
-    for (int c = 0; c < 3; ++c) {
-      ctx.outside_color[c] = srgb_to_linear(ctx.outside_color[c]);
-      ctx.occluded_color[c] = srgb_to_linear(ctx.occluded_color[c]);
-    }
-  }
-  ctx.occluded = sh.occluded;
+  ctx.shade = make_shade_rule(working.view, proxy, sh);
   ctx.fill_colors = fill_first ? &fill_colors : nullptr;
   if (scene) {
     ctx.scene = &*scene;

@@ -3,7 +3,7 @@
 //
 // Parse -> validate every flag (exit 2) -> check the outputs are writable
 // (exit 1) -> load the mesh -> resolve the proxy (geometry flags not given
-// are fitted, bake/cli/fit_geometry.h) -> load the image -> bake (vertex:
+// are fitted, bake/cli/proxy_for_mesh.h) -> load the image -> bake (vertex:
 // bake_vertex_colors; atlas: bake_atlas_texture, texbake/texbake.h) ->
 // write atomically (write_vertex_colors, write_atlas).
 // Bad flag values are rejected (exit 2), never clamped; flags of the other
@@ -22,9 +22,9 @@
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
-#include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
 #include "bake/cli/progress_bar.h"
+#include "bake/cli/proxy_for_mesh.h"
 #include "bake/cli/report.h"
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
@@ -194,11 +194,11 @@ int run_bake(const BakeCliOptions& o) {
   // All geometry given (or a file): build and validate the proxy now, so a
   // bad value is reported before the long work. Otherwise the fit needs the
   // mesh.
-  std::optional<ResolvedProxy> resolved;
+  std::optional<FlagsProxy> resolved;
   if (o.geometry.proxy_file || missing_geometry_flags(o.geometry, *o.geometry.kind).empty()) {
     Expected<Proxy> proxy = proxy_from_flags(o.geometry);
     if (!proxy) return report_error(proxy.error());
-    resolved = ResolvedProxy{std::move(*proxy), {}};
+    resolved = FlagsProxy{std::move(*proxy), {}, {}};
     if (Status s = check_wrap(o, kind_of(params_of(resolved->proxy))); !s) {
       return report_error(s.error());
     }
@@ -239,12 +239,11 @@ int run_bake(const BakeCliOptions& o) {
   // Nothing to bake is the mesh's problem, reported before a fit's.
   if (Status s = check_triangles(mesh->mesh); !s) return report_mesh_error(s.error(), o.mesh);
   if (!resolved) {
-    stage_start = Clock::now();
-    Expected<ResolvedProxy> fitted =
-        resolve_proxy(o.geometry, mesh->mesh, o.mesh, o.quiet ? nullptr : &std::cerr);
+    Expected<FlagsProxy> fitted =
+        proxy_for_mesh(o.geometry, mesh->mesh, o.mesh, o.quiet ? nullptr : &std::cerr, run);
     if (!fitted) return report_error(fitted.error());
     resolved = std::move(*fitted);
-    report.fit = seconds_since(stage_start);
+    report.fit = resolved->stats.timings.fit;
   }
   const Proxy& proxy = resolved->proxy;
   report.proxy = params_of(proxy);

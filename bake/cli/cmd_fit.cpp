@@ -1,14 +1,14 @@
 // texbake fit MESH --proxy KIND [--up x|y|z|-x|-y|-z] [geometry] [-o proxy.json]
 // (SPEC sections 5 and 6): fits a proxy to the mesh's referenced vertices
-// (bake/fit_proxy.h; given geometry flags are kept, see fit_geometry.h) and
+// (bake/fit/fit_proxy.h; given geometry flags are kept, see proxy_for_mesh.h) and
 // prints it as JSON on stdout, or writes it atomically for --proxy-file.
 #include <iostream>
 #include <memory>
 #include <string>
 
 #include "bake/cli/commands.h"
-#include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
+#include "bake/cli/proxy_for_mesh.h"
 #include "mesh_io/atomic_file.h"
 #include "texbake/texbake.h"
 
@@ -52,8 +52,8 @@ RunFunction add_fit_command(CLI::App& app) {
     }
     Expected<LoadedMesh> loaded = read_mesh(opts->mesh);
     if (!loaded) return report_error(loaded.error());
-    Expected<ResolvedProxy> resolved =
-        resolve_proxy(opts->geometry, loaded->mesh, opts->mesh, /*log=*/nullptr);
+    Expected<FlagsProxy> resolved =
+        proxy_for_mesh(opts->geometry, loaded->mesh, opts->mesh, /*log=*/nullptr);
     if (!resolved) return report_error(resolved.error());
     if (opts->output.empty()) {
       std::cout << proxy_to_json(resolved->proxy, 2) << "\n";

@@ -15,8 +15,8 @@
 
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
-#include "bake/cli/fit_geometry.h"
 #include "bake/cli/geometry_flags.h"
+#include "bake/cli/proxy_for_mesh.h"
 #include "mesh_io/atomic_file.h"
 #include "texbake/texbake.h"
 
@@ -39,6 +39,7 @@ struct RenderArgs {
   ColorChoice colors = ColorChoice::kAuto;
   std::string texture;
   std::string outside = "clamp";  // --outside clamp | R,G,B[,A]
+  std::optional<WrapMode> wrap;   // --wrap clamp | repeat (plane proxy only)
   GeometryFlags geometry;
 };
 
@@ -115,6 +116,9 @@ int run_render(const RenderArgs& args) {
     return report_error(ErrorCode::kInvalidArgument,
                         "geometry flags and --outside need --texture and --proxy");
   }
+  if (args.wrap && !projecting) {
+    return report_error(ErrorCode::kInvalidArgument, "--wrap needs --texture and --proxy plane");
+  }
   std::optional<Rgba> outside;
   if (args.outside != "clamp") {
     outside = parse_color(args.outside);
@@ -137,6 +141,10 @@ int run_render(const RenderArgs& args) {
       if (!p) return report_error(p.error());
       proxy = std::move(p).value();
     }
+    if (args.wrap && (proxy ? kind_of(*proxy) : *args.geometry.kind) != ProxyKind::kPlane) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          "--wrap applies to the plane proxy only (the others' wrap is fixed)");
+    }
   }
 
   const std::filesystem::path output =
@@ -151,7 +159,7 @@ int run_render(const RenderArgs& args) {
   // Nothing to render is the mesh's problem, reported before a fit's.
   if (Status st = check_triangles(mesh); !st) return report_mesh_error(st.error(), args.mesh);
   if (projecting && !proxy) {
-    auto fitted = resolve_proxy(args.geometry, mesh, args.mesh, &std::cerr);
+    auto fitted = proxy_for_mesh(args.geometry, mesh, args.mesh, &std::cerr, run);
     if (!fitted) return report_error(fitted.error());
     proxy = std::move(fitted->proxy);
   }
@@ -166,7 +174,8 @@ int run_render(const RenderArgs& args) {
     auto img = read_image(args.texture);
     if (!img) return report_error(img.error());
     texture = std::move(img).value();
-    source = ProjectionSource{*proxy, texture.view(), outside};
+    source =
+        ProjectionSource{*proxy, texture.view(), outside, args.wrap.value_or(WrapMode::kClamp)};
     choice = ColorChoice::kNone;  // handled
   } else if (choice == ColorChoice::kAuto) {
     choice = has_atlas                  ? ColorChoice::kAtlas
@@ -235,6 +244,9 @@ RunFunction add_render_command(CLI::App& app) {
                   "points outside the proxy's (u, v) domain: clamp (to the edge texel) or "
                   "R,G,B[,A] in [0, 1]")
       ->capture_default_str();
+  add_choice_option<std::optional<WrapMode>>(
+      *cmd, "--wrap", args->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
+      "plane proxy only: clamp (default) or repeat (tile), as in texbake bake");
   add_geometry_flags(*cmd, args->geometry);
   cmd->add_flag("--flat", args->flat, "flat shading (geometric normals)");
   cmd->add_option("--background", args->background, "R,G,B background in [0, 1]")

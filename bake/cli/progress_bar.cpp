@@ -38,7 +38,7 @@ void ProgressBar::draw(std::string_view stage, double fraction) {
   const int filled = percent * kBarWidth / 100;
   std::string bar(static_cast<std::size_t>(filled), '#');
   bar.append(static_cast<std::size_t>(kBarWidth - filled), '-');
-  std::fprintf(stderr, "\r%-8s [%s] %3d%%", stage_.c_str(), bar.c_str(), percent);
+  std::fprintf(stderr, "\r%-9s [%s] %3d%%", stage_.c_str(), bar.c_str(), percent);
   std::fflush(stderr);
   if (percent == 100) end_line();
 }

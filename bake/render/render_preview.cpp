@@ -7,6 +7,8 @@
 #include <numbers>
 #include <string>
 
+#include "bake/shade/sample_pattern.h"
+#include "bake/shade/shade.h"
 #include "bake/util/parallel.h"
 #include "mapping/sample.h"
 
@@ -34,14 +36,6 @@ Vec3 rotate_z_to(Vec3 up, Vec3 v) {
   if (s < 1e-12) return c > 0 ? v : Vec3{v.x, -v.y, -v.z};
   const Vec3 axis = k / s;
   return v * c + cross(axis, v) * s + axis * (dot(axis, v) * (1 - c));
-}
-
-// splitmix64 finaliser (Steele, Lea, Flood 2014): a well-mixed 64-bit hash.
-uint64_t mix64(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
 }
 
 // 24-bit uniform in [0, 1).
@@ -84,17 +78,16 @@ struct AtlasColor {
   }
 };
 
+// The bake's shading rule (bake/shade/shade.h) at the hit point, in the
+// texture's stored encoding; points without a mapping are grey.
 template <class ConcreteProxy>
 struct ProjectedColor {
   const ConcreteProxy* proxy;
-  ImageView texture;
-  WrapMode wrap_u, wrap_v;
-  std::optional<Rgba> outside;
+  const ShadeRule* rule;
   Rgba operator()(const Hit&, Vec3 p) const {
-    const MapResult r = proxy->inverse_map(p);
-    if (r.status == MapStatus::kUndefined) return GreyColor{}({}, p);
-    if (r.status == MapStatus::kOutside && outside) return *outside;
-    return sample_bilinear(texture, r.uv, wrap_u, wrap_v);
+    const Shaded s = rule->project(proxy->inverse_map(p));
+    if (s.kind == Shade::kNone) return GreyColor{}({}, p);
+    return rule->stored(s.color);
   }
 };
 
@@ -189,7 +182,7 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
         double jx = 0.5, jy = 0.5;
         if (spp > 1) {
           const int cell = k % (strata * strata);
-          const uint64_t h = mix64(mix64(pixel_seed) ^ static_cast<uint64_t>(k));
+          const uint64_t h = hash_pair(pixel_seed, static_cast<uint64_t>(k));
           jx = ((cell % strata) + unit_from_bits(h)) / strata;
           jy = ((cell / strata) + unit_from_bits(h << 24)) / strata;
         }
@@ -455,6 +448,20 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
   const std::size_t tiles_per_view = static_cast<std::size_t>(tiles_x) * tiles_y;
   std::atomic<uint64_t> shadow_count{0};
 
+  // The projection's shading rule, once per render (its texture linearised
+  // once with `linear`).
+  WorkingImage projected;
+  ShadeRule projection_rule;
+  if (const auto* proj = std::get_if<ProjectionSource>(&source)) {
+    projected = working_image(proj->texture, proj->linear);
+    VertexBakeOptions shading;
+    shading.outside = proj->outside ? OutsideMode::kColor : OutsideMode::kClamp;
+    shading.outside_color = proj->outside.value_or(shading.outside_color);
+    shading.linear = proj->linear;
+    shading.plane_wrap = proj->plane_wrap;
+    projection_rule = make_shade_rule(projected.view, proj->proxy, shading);
+  }
+
   // Lights are fixed to the camera; the directions are per view.
   const PhongParams& ph = options.phong;
   std::vector<std::array<Light, 2>> view_lights;
@@ -497,12 +504,10 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
               render_tile(ctx, job, AtlasColor{&mesh, src.texture}, lights, scratch,
                           image.pixels.data(), shadow_count);
             } else {
-              const WrapMode wu = wrap_u(src.proxy), wv = wrap_v(src.proxy);
               std::visit(
                   [&](const auto& proxy) {
                     using P = std::decay_t<decltype(proxy)>;
-                    render_tile(ctx, job,
-                                ProjectedColor<P>{&proxy, src.texture, wu, wv, src.outside}, lights,
+                    render_tile(ctx, job, ProjectedColor<P>{&proxy, &projection_rule}, lights,
                                 scratch, image.pixels.data(), shadow_count);
                   },
                   src.proxy);

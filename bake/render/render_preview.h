@@ -32,7 +32,8 @@
 //    vis_l is 0 when a shadow ray towards light l is blocked (only the key
 //    light casts shadows, and only with RenderOptions::shadows), else 1.
 //  - Shading is done on the colour source's stored values (no colour-space
-//    conversion), like the bake itself.
+//    conversion), like the bake itself (a ProjectionSource with `linear`
+//    interpolates in linear light but gives its colour in the stored encoding).
 //  - Pixels have straight (unassociated) alpha, as PNG stores it: RGB = mean
 //    of the samples that hit the mesh, A = the fraction that hit. Pixels the
 //    mesh does not cover have exactly the background RGB and alpha 0 (so a
@@ -114,15 +115,20 @@ struct AtlasSource {
 };
 
 // Direct per-hit inverse mapping: the ground truth a bake is compared with.
-// The hit point goes through proxy.inverse_map, the texture is sampled there
-// bilinearly with the proxy's wrap rules (SPEC section 1). Points outside the
-// proxy's domain use `outside` when set (--outside R,G,B[,A]), else the
-// clamped sample; points with no mapping (kUndefined) are grey. No
-// visibility test: this is the projected colour of every point.
+// The hit point goes through proxy.inverse_map and the bake's shading rule
+// (bake/shade/shade.h): the texture sampled bilinearly with the proxy's wrap
+// rules (SPEC section 1; a plane with plane_wrap = kRepeat tiles, so nothing
+// is outside it), points outside the proxy's domain take `outside` when set
+// (--outside R,G,B[,A]), else the clamped sample; with `linear` the texture
+// is interpolated in linear light and each hit's colour encoded back to sRGB
+// (--linear). Points with no mapping (kUndefined) are grey. No visibility
+// test: this is the projected colour of every point.
 struct ProjectionSource {
   Proxy proxy;
   ImageView texture;
   std::optional<Rgba> outside;
+  WrapMode plane_wrap = WrapMode::kClamp;  // --wrap; ignored by the other proxies
+  bool linear = false;                     // --linear
 };
 
 using ColorSource = std::variant<GreySource, VertexColorSource, AtlasSource, ProjectionSource>;

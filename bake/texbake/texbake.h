@@ -136,7 +136,8 @@ struct CompletedProxy {
   // Keys of the fields filled by fitting (e.g. {"center", "radius"}), in the
   // kind's field order; empty when the spec was complete.
   std::vector<std::string> fitted;
-  Stats stats;  // timings.fit
+  std::size_t points = 0;  // vertices the fit used (0 when nothing was fitted)
+  Stats stats;             // timings.fit (0 when nothing was fitted)
 };
 
 // The proxy of `spec`, every field not given fitted to the mesh's referenced
@@ -147,10 +148,12 @@ struct CompletedProxy {
 // height are kept and the rest is fitted around them; other given values
 // replace the fitted ones. A complete spec is validated and returned without
 // looking at the mesh. Errors: kUsage (a given value is invalid, e.g. a zero
-// axis, naming the key), kInput (the mesh cannot be fitted, e.g. all points
-// coincident).
+// axis, naming the key, or the CLI flag with naming = ParamNaming::kFlag),
+// kInput (the mesh cannot be fitted, e.g. all points coincident).
+// The rules: bake/fit/complete_proxy.h (complete_spec).
 Expected<CompletedProxy> complete_proxy(const ProxySpec& spec, const MeshData& mesh,
-                                        const RunOptions& run = {});
+                                        const RunOptions& run = {},
+                                        ParamNaming naming = ParamNaming::kKey);
 
 // ---- Vertex colours -------------------------------------------------------
 

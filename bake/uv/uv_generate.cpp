@@ -15,6 +15,7 @@
 
 #include "bake/util/parallel.h"
 #include "bake/uv/uv_generate_internal.h"
+#include "mesh_io/image_io.h"
 
 namespace texbake {
 namespace {
@@ -25,8 +26,6 @@ using uv_detail::FlatChart;
 using uv_detail::Geometry;
 using uv_detail::Placement;
 using uv_detail::Vec2;
-
-constexpr int kMaxAtlasSize = 16384;
 
 // The kInvalidArgument errors of generate_uv_atlas (uv_generate.h) that need
 // no geometry: options out of range, no triangles, bad indices or positions.

@@ -22,9 +22,7 @@ namespace texbake::uv_detail {
 
 inline constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
 
-struct Vec2 {
-  double x = 0, y = 0;
-};
+using texbake::Vec2;  // the one 2-D vector type (mapping/vec.h)
 
 // Twice the signed area of triangle (a, b, c), positive when counter-clockwise.
 inline double cross2(Vec2 a, Vec2 b, Vec2 c) {

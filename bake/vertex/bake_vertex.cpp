@@ -7,6 +7,8 @@
 #include <optional>
 #include <variant>
 
+#include "bake/shade/sample_pattern.h"
+#include "bake/shade/shade.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
@@ -28,25 +30,9 @@ Vec3 to_vec(const Float3& p) {
   return {p.x, p.y, p.z};
 }
 
-// SplitMix64 (Steele, Lea, Flood 2014): a statistically good 64-bit mixer, so
-// per-(vertex, sample) jitter needs no generator state.
-uint64_t splitmix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
+// Per-(vertex, sample) jitter in [0, 1), without generator state.
 double hash01(uint64_t vertex, uint64_t index) {
-  return static_cast<double>(splitmix64(splitmix64(vertex) ^ index) >> 11) * 0x1.0p-53;
-}
-// Van der Corput sequence in base 2: the second coordinate of a Hammersley set.
-double radical_inverse2(uint32_t i) {
-  i = (i << 16) | (i >> 16);
-  i = ((i & 0x00FF00FFu) << 8) | ((i & 0xFF00FF00u) >> 8);
-  i = ((i & 0x0F0F0F0Fu) << 4) | ((i & 0xF0F0F0F0u) >> 4);
-  i = ((i & 0x33333333u) << 2) | ((i & 0xCCCCCCCCu) >> 2);
-  i = ((i & 0x55555555u) << 1) | ((i & 0xAAAAAAAAu) >> 1);
-  return static_cast<double>(i) * 0x1.0p-32;
+  return unit_double(hash_pair(vertex, index));
 }
 
 // Vertex -> adjacent triangles (CSR), by counting sort over MeshData::triangles.
@@ -74,11 +60,7 @@ Adjacency build_adjacency(const MeshData& mesh) {
 struct BakeContext {
   const MeshData* mesh = nullptr;
   const VertexBakeOptions* options = nullptr;
-  ImageView image;  // linear copy with options.linear
-  WrapMode wrap_u = WrapMode::kClamp, wrap_v = WrapMode::kClamp;
-  bool no_outside = false;  // plane with --wrap repeat: tiles, never outside
-  bool outside_constant = false;
-  Rgba outside_color{};  // in the working encoding (linear with options.linear)
+  ShadeRule shade;  // image and constants in the working encoding
   const Adjacency* adjacency = nullptr;
   const EmbreeScene* scene = nullptr;  // null: no visibility test
   double ray_offset = 0;
@@ -104,18 +86,14 @@ struct Accumulator {
   }
 };
 
-// One mapped sample into the accumulator (SPEC section 2 --outside).
+// One mapped sample into the accumulator (the shading rule, bake/shade/shade.h):
+// samples without a mapping are left out.
 void accumulate(const BakeContext& ctx, const MapResult& m, Accumulator& acc, ChunkCounts& counts) {
   ++counts.samples;
-  if (m.status == MapStatus::kUndefined) return;
-  if (m.status == MapStatus::kOutside && !ctx.no_outside) {
-    ++counts.outside;
-    if (ctx.outside_constant) {
-      acc.add(ctx.outside_color);
-      return;
-    }
-  }
-  acc.add(sample_bilinear(ctx.image, m.uv, ctx.wrap_u, ctx.wrap_v));
+  const Shaded s = ctx.shade.project(m);
+  if (s.kind == Shade::kNone) return;
+  if (s.kind == Shade::kOutside) ++counts.outside;
+  acc.add(s.color);
 }
 
 // The projected colour of vertex v (no visibility), or nullopt if no sample
@@ -236,18 +214,6 @@ void bake_chunk(const P& proxy, const BakeContext& ctx, std::size_t begin, std::
   }
 }
 
-// The image's RGB converted from sRGB to linear (alpha unchanged), in parallel.
-std::vector<float> linearise(const ImageView& image) {
-  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
-  std::vector<float> out(image.data, image.data + pixels * 4);
-  parallel_for_chunks(pixels, 16384, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      for (int k = 0; k < 3; ++k) out[4 * i + k] = srgb_to_linear(out[4 * i + k]);
-    }
-  });
-  return out;
-}
-
 Rgba image_mean(const ImageView& image) {
   double sum[4] = {0, 0, 0, 0};
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
@@ -285,26 +251,11 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   }
 
   const auto bake_start = Clock::now();
-  std::vector<float> linear_pixels;
+  const WorkingImage working = working_image(image, options.linear);
   BakeContext ctx;
   ctx.mesh = &mesh;
   ctx.options = &options;
-  ctx.image = image;
-  if (options.linear) {
-    linear_pixels = linearise(image);
-    ctx.image.data = linear_pixels.data();
-  }
-  ctx.wrap_u = wrap_u(proxy);
-  ctx.wrap_v = wrap_v(proxy);
-  if (std::holds_alternative<Plane>(proxy) && options.plane_wrap == WrapMode::kRepeat) {
-    ctx.wrap_u = ctx.wrap_v = WrapMode::kRepeat;
-    ctx.no_outside = true;
-  }
-  ctx.outside_constant = options.outside == OutsideMode::kColor;
-  ctx.outside_color = options.outside_color;
-  if (options.linear) {
-    for (int k = 0; k < 3; ++k) ctx.outside_color[k] = srgb_to_linear(ctx.outside_color[k]);
-  }
+  ctx.shade = make_shade_rule(working.view, proxy, options);
   Adjacency adjacency;
   if (options.filter == VertexFilter::kArea) {
     adjacency = build_adjacency(mesh);
@@ -360,12 +311,12 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
             [&](const auto& p) -> Rgba {
               const MapResult m = p.inverse_map(to_vec(mesh.positions[v]));
               if (auto c = vertex_color(p, ctx, v, m, cdf, fallback_counts)) return *c;
-              if (!mean) mean = image_mean(ctx.image);
+              if (!mean) mean = image_mean(ctx.shade.image);
               return *mean;
             },
             proxy);
       }
-      if (!mean) mean = image_mean(ctx.image);
+      if (!mean) mean = image_mean(ctx.shade.image);
       return *mean;
     };
     stage.plan = plan_fill(mesh, result.colors, unknown, fallback);
@@ -391,9 +342,7 @@ Expected<VertexBakeResult> bake_vertex_finish(const MeshData& mesh, VertexBakeSt
   }
   if (options.linear) {
     parallel_for_chunks(n, 16384, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t v = begin; v < end; ++v) {
-        for (int k = 0; k < 3; ++k) result.colors[v][k] = linear_to_srgb(result.colors[v][k]);
-      }
+      for (std::size_t v = begin; v < end; ++v) result.colors[v] = linear_to_srgb(result.colors[v]);
     });
   }
   if (options.occluded == OccludedMode::kColor) {

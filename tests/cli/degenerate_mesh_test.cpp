@@ -37,9 +37,9 @@ const DegenerateMesh kMeshes[] = {
 
 class DegenerateMeshCli : public ::testing::Test {
  protected:
-  fs::path dir = fs::temp_directory_path() /
-                 ("texbake_degenerate_cli_" + std::to_string(::getpid()) + "_" +
-                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  fs::path dir =
+      fs::temp_directory_path() / ("texbake_degenerate_cli_" + std::to_string(::getpid()) + "_" +
+                                   ::testing::UnitTest::GetInstance()->current_test_info()->name());
   fs::path image;
   void SetUp() override {
     fs::remove_all(dir);
@@ -121,10 +121,9 @@ TEST_F(DegenerateMeshCli, AMeshWithOneGoodTriangleStillBakes) {
   // non-degenerate triangle beside a degenerate one is enough.
   const fs::path mesh = dir / "one_good.off";
   std::ofstream(mesh) << "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 3\n";
-  const texbake::testing_cli::RunResult r =
-      run_texbake("bake " + shell_quote(mesh.string()) + " --texture " +
-                  shell_quote(image.string()) + " --proxy sphere --center 0,0,0 --radius 1 -q -o " +
-                  shell_quote((dir / "o.ply").string()));
+  const texbake::testing_cli::RunResult r = run_texbake(
+      "bake " + shell_quote(mesh.string()) + " --texture " + shell_quote(image.string()) +
+      " --proxy sphere --center 0,0,0 --radius 1 -q -o " + shell_quote((dir / "o.ply").string()));
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_TRUE(fs::exists(dir / "o.ply"));
 }

@@ -97,6 +97,54 @@ TEST_F(RenderCli, DirectProjectionDiffersFromGrey) {
   EXPECT_LT(r->psnr, 30);  // orange/blue against grey: far apart
 }
 
+// --wrap repeat tiles the plane's texture: moving the origin by one tile
+// (the u axis) gives the same image, which the clamped plane does not.
+TEST_F(RenderCli, WrapRepeatTilesThePlane) {
+  const fs::path square = dir_ / "square.off";
+  std::ofstream(square) << "OFF\n4 2 0\n-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n3 0 1 2\n3 0 2 3\n";
+  const std::string common = q(square) + " --size 48x48 --view 0,90 --texture " + q(texture_) +
+                             " --proxy plane --u-axis 1,0,0 --v-axis 0,1,0";
+  auto render = [&](const std::string& name, const std::string& flags) {
+    const fs::path out = dir_ / name;
+    std::string err;
+    EXPECT_EQ(run(common + " " + flags + " -o " + q(out), &err), 0) << err;
+    return out;
+  };
+  const fs::path repeat0 = render("r0.png", "--origin 0,0,0 --wrap repeat");
+  const fs::path repeat1 = render("r1.png", "--origin -1,0,0 --wrap repeat");
+  const fs::path clamp0 = render("c0.png", "--origin 0,0,0 --wrap clamp");
+  const fs::path clamp1 = render("c1.png", "--origin -1,0,0 --wrap clamp");
+  const fs::path plain1 = render("p1.png", "--origin -1,0,0");
+  auto max_diff = [](const fs::path& a, const fs::path& b) {
+    auto r = texbake::compare_image_files(a, b, {});
+    EXPECT_TRUE(r.has_value()) << r.error().message;
+    return r ? r->max_difference : -1.0;
+  };
+  EXPECT_LE(max_diff(repeat0, repeat1), 1.0 / 255);  // one tile apart: the same image
+  EXPECT_GT(max_diff(clamp0, clamp1), 0.2);          // clamped: orange/blue move
+  EXPECT_GT(max_diff(repeat1, clamp1), 0.2);
+  EXPECT_EQ(max_diff(clamp1, plain1), 0.0);  // clamp is the default
+}
+
+TEST_F(RenderCli, WrapNeedsAPlaneProjection) {
+  const std::string out = " -o " + q(dir_ / "x.png");
+  std::string err;
+  EXPECT_EQ(run(q(mesh_) + out + " --wrap repeat", &err), 2);
+  EXPECT_NE(err.find("texbake: error: --wrap needs --texture and --proxy plane"), std::string::npos)
+      << err;
+  EXPECT_EQ(run(q(mesh_) + out + " --texture " + q(texture_) +
+                    " --proxy sphere --center 0,0,0 --radius 1 --wrap repeat",
+                &err),
+            2);
+  EXPECT_NE(err.find("--wrap applies to the plane proxy only"), std::string::npos) << err;
+  EXPECT_EQ(run(q(mesh_) + out + " --texture " + q(texture_) +
+                    " --proxy plane --origin 0,0,0 --u-axis 1,0,0 --v-axis 0,1,0 --wrap tile",
+                &err),
+            2);
+  EXPECT_NE(err.find("unknown value 'tile' (expected clamp or repeat)"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir_ / "x.png"));
+}
+
 TEST_F(RenderCli, UsageErrorsExitTwo) {
   const std::string out = " -o " + q(dir_ / "x.png");
   std::string err;

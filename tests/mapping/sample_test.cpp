@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 namespace texbake {
@@ -118,6 +119,32 @@ TEST(Srgb, KnownValuesAndRoundTrip) {
     const float c = i / 1000.0f;
     EXPECT_NEAR(linear_to_srgb(srgb_to_linear(c)), c, 2e-6) << c;
   }
+}
+
+TEST(Srgb, ColourFormsConvertRgbAndNeverAlpha) {
+  const Rgba lin = srgb_to_linear(Rgba{0.5f, 1.f, 0.02f, 0.5f});
+  EXPECT_NEAR(lin[0], 0.2140411f, 1e-6);
+  EXPECT_NEAR(lin[1], 1.f, 1e-6);
+  EXPECT_NEAR(lin[2], 0.02f / 12.92f, 1e-9);
+  EXPECT_EQ(lin[3], 0.5f);
+  const Rgba back = linear_to_srgb(Rgba{0.2140411f, 0.f, 0.02f / 12.92f, 0.25f});
+  EXPECT_NEAR(back[0], 0.5f, 1e-6);
+  EXPECT_EQ(back[1], 0.f);
+  EXPECT_NEAR(back[2], 0.02f, 1e-7);
+  EXPECT_EQ(back[3], 0.25f);
+}
+
+TEST(Vec2, ArithmeticDotAndCross) {
+  constexpr Vec2 a{1, 2}, b{3, -4};
+  static_assert(a + b == Vec2{4, -2});
+  static_assert(a - b == Vec2{-2, 6});
+  static_assert(a * 2 == Vec2{2, 4});
+  static_assert(dot(a, b) == 3 - 8);
+  static_assert(cross(a, b) == 1 * -4 - 2 * 3);  // clockwise from a to b: negative
+  static_assert(cross(Vec2{1, 0}, Vec2{0, 1}) == 1);
+  // A pixel position is a Vec2 (one 2-D type).
+  static_assert(std::is_same_v<PixelPos, Vec2>);
+  EXPECT_EQ(pixel_from_uv({0.5, 0.5}, 4, 2), (PixelPos{1.5, 0.5}));
 }
 
 }  // namespace

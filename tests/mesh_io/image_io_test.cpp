@@ -176,19 +176,5 @@ TEST_F(ImageIo, WritePng16AndExr) {
   EXPECT_EQ(files, 2u);
 }
 
-TEST_F(ImageIo, SrgbToLinearOnColourChannelsOnly) {
-  Image img;
-  img.width = img.height = 1;
-  img.pixels = {0.5f, 1.f, 0.f, 0.5f};
-  srgb_to_linear_in_place(img);
-  // IEC 61966-2-1: ((0.5 + 0.055) / 1.055)^2.4 = 0.2140411...
-  EXPECT_NEAR(img.pixels[0], 0.2140411f, 1e-6);
-  EXPECT_FLOAT_EQ(img.pixels[1], 1.f);
-  EXPECT_FLOAT_EQ(img.pixels[2], 0.f);
-  EXPECT_EQ(img.pixels[3], 0.5f);
-  linear_to_srgb_in_place(img);
-  EXPECT_NEAR(img.pixels[0], 0.5f, 1e-6);
-}
-
 }  // namespace
 }  // namespace texbake

@@ -7,6 +7,7 @@
 
 #include <cstring>
 #include <sstream>
+#include <string>
 
 #include "mesh_io/read_mesh.h"
 #include "tests/mesh_io/test_files.h"
@@ -207,6 +208,12 @@ TEST_F(WriteMesh, UnknownExtensionAndWrongColourCountAreErrors) {
   Status s = write_mesh(dir / "x.stl", m);
   ASSERT_FALSE(s.has_value());
   EXPECT_EQ(s.error().code, ErrorCode::kUnsupported);
+  // GLB has writers of its own: the error names them.
+  Status glb = write_mesh(dir / "x.GLB", m);
+  ASSERT_FALSE(glb.has_value());
+  EXPECT_EQ(glb.error().code, ErrorCode::kUnsupported);
+  EXPECT_NE(glb.error().message.find("write_vertex_color_glb"), std::string::npos);
+  EXPECT_NE(glb.error().message.find("write_textured_mesh"), std::string::npos);
   std::vector<std::array<float, 4>> two(2);
   MeshWriteOptions opt;
   opt.vertex_colors = two;

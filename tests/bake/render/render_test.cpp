@@ -1,5 +1,6 @@
-// render_preview: camera conventions, hand-computed Phong values, analytic
-// shadows, thread-count independence, contact sheets.
+// render_preview: camera conventions, hand-computed Phong values, the
+// projection's wrap and linear rules, analytic shadows, thread-count
+// independence, contact sheets.
 //
 // All meshes are built here; the expected values come from the conventions
 // stated in bake/render_preview.h worked out by hand (or analytically), not
@@ -8,8 +9,11 @@
 // separately in CameraConventions).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <vector>
 
 #include "bake/render/render_preview.h"
 #include "bake/util/parallel.h"
@@ -230,6 +234,120 @@ TEST(RenderPreview, AtlasAndProjectionSampleTheTextureAtTheHitPoint) {
   }
 
   EXPECT_FALSE(render_preview(quad, scene, VertexColorSource{}, o).has_value());  // no colours
+}
+
+// Phong with the ambient term only (ambient 1): a pixel is its albedo.
+PhongParams albedo_only() {
+  PhongParams p;
+  p.ambient = 1;
+  p.key_diffuse = p.key_specular = p.fill_diffuse = p.fill_specular = 0;
+  return p;
+}
+
+// The projected albedo at the facing quad's centre (0, 0, 0), the centre
+// pixel of a 65 x 65 view (0, 0), through a plane with axes (2, 0, 0) and
+// (0, 0, 2) at `origin`: (u, v) = (-origin.x / 2, -origin.z / 2).
+class PlaneProjection : public testing::Test {
+ protected:
+  PlaneProjection() {
+    // 4 x 2, top row first. Red: top row 0 .1 .2 .3, bottom row .4 .5 .6 .7;
+    // green .5, blue .25. x = 4u - 0.5, y = 1.5 - 2v (SPEC section 1).
+    const float red[2][4] = {{0.f, 0.1f, 0.2f, 0.3f}, {0.4f, 0.5f, 0.6f, 0.7f}};
+    for (int y = 0; y < 2; ++y) {
+      for (int x = 0; x < 4; ++x) texels_.insert(texels_.end(), {red[y][x], 0.5f, 0.25f, 1.f});
+    }
+    options_.width = options_.height = 65;
+    options_.elevation_deg = 0;
+    options_.phong = albedo_only();
+  }
+  RenderImage render(Vec3 origin, WrapMode wrap, std::optional<Rgba> outside = std::nullopt) {
+    auto plane = make_proxy(PlaneParams{origin, {2, 0, 0}, {0, 0, 2}});
+    EXPECT_TRUE(plane.has_value());
+    ProjectionSource src{*plane, {4, 2, texels_.data()}, outside};
+    src.plane_wrap = wrap;
+    auto img = render_preview(quad_, scene_, src, options_);
+    EXPECT_TRUE(img.has_value()) << img.error().message;
+    return std::move(img).value();
+  }
+  float centre_red(Vec3 origin, WrapMode wrap, std::optional<Rgba> outside = std::nullopt) {
+    return render(origin, wrap, outside).pixel(32, 32)[0];
+  }
+
+  std::vector<float> texels_;
+  MeshData quad_ = facing_quad();
+  EmbreeScene scene_ = build_scene(quad_);
+  RenderOptions options_;
+};
+
+TEST_F(PlaneProjection, WrapRepeatTilesTheTextureInUAndV) {
+  const WrapMode kRepeat = WrapMode::kRepeat, kClamp = WrapMode::kClamp;
+  // (0.5, 0.5): x = 1.5, y = 0.5: (.1 + .2 + .5 + .6) / 4 = .35, either way.
+  EXPECT_NEAR(centre_red({-1, 0, -1}, kRepeat), 0.35f, 1e-5);
+  EXPECT_NEAR(centre_red({-1, 0, -1}, kClamp), 0.35f, 1e-5);
+  // (1.5, 0.5): repeat tiles to (0.5, 0.5); clamp takes column 3, (.3 + .7) / 2.
+  EXPECT_NEAR(centre_red({-3, 0, -1}, kRepeat), 0.35f, 1e-5);
+  EXPECT_NEAR(centre_red({-3, 0, -1}, kClamp), 0.5f, 1e-5);
+  // Nothing is outside a tiled plane: --outside does not apply.
+  EXPECT_NEAR(centre_red({-3, 0, -1}, kRepeat, Rgba{1, 0, 0, 1}), 0.35f, 1e-5);
+  EXPECT_NEAR(centre_red({-3, 0, -1}, kClamp, Rgba{1, 0, 0, 1}), 1.f, 1e-5);
+  // (0, 0.25): x = -0.5, y = 1. Repeat: columns 3 and 0, (.7 + .4) / 2;
+  // clamp: column 0, .4.
+  EXPECT_NEAR(centre_red({0, 0, -0.5}, kRepeat), 0.55f, 1e-5);
+  EXPECT_NEAR(centre_red({0, 0, -0.5}, kClamp), 0.4f, 1e-5);
+  // (0.25, 1): x = 0.5, y = -0.5. Repeat: rows 1 and 0, (.4 + .5 + 0 + .1) / 4;
+  // clamp: row 0, (0 + .1) / 2.
+  EXPECT_NEAR(centre_red({-0.5, 0, -2}, kRepeat), 0.25f, 1e-5);
+  EXPECT_NEAR(centre_red({-0.5, 0, -2}, kClamp), 0.05f, 1e-5);
+
+  // The whole view: moving the origin by one tile (u_axis) changes nothing
+  // when the plane repeats, and does when it clamps.
+  const RenderImage base = render({-1, 0, -1}, kRepeat);
+  const RenderImage shifted = render({-3, 0, -1}, kRepeat);
+  const RenderImage clamped = render({-3, 0, -1}, kClamp);
+  ASSERT_EQ(base.pixels.size(), shifted.pixels.size());
+  double max_diff = 0, clamp_diff = 0;
+  for (std::size_t i = 0; i < base.pixels.size(); ++i) {
+    max_diff = std::max(max_diff, std::abs(double{base.pixels[i]} - shifted.pixels[i]));
+    clamp_diff = std::max(clamp_diff, std::abs(double{base.pixels[i]} - clamped.pixels[i]));
+  }
+  EXPECT_LT(max_diff, 1e-5);
+  EXPECT_GT(clamp_diff, 0.1);
+}
+
+TEST(RenderPreview, PlaneWrapIsIgnoredByTheOtherProxies) {
+  // 2 x 2: top row black, white; bottom row red, green. Tiling v would blend
+  // the rows near the poles (v < 0.25, v > 0.75), which the view sees.
+  const std::vector<float> texels = {0, 0, 0, 1, 1, 1, 1, 1, 1, 0, 0, 1, 0, 1, 0, 1};
+  MeshData m;
+  add_sphere(m, {0, 0, 0}, 1, 8, 16);
+  const EmbreeScene scene = build_scene(m);
+  RenderOptions o;
+  o.width = o.height = 32;
+  auto sphere = make_proxy(SphereParams{{0, 0, 0}, 1, {0, 0, 1}, {}});
+  ASSERT_TRUE(sphere.has_value());
+  ProjectionSource src{*sphere, {2, 2, texels.data()}, std::nullopt};
+  auto clamp = render_preview(m, scene, src, o);
+  src.plane_wrap = WrapMode::kRepeat;
+  auto repeat = render_preview(m, scene, src, o);
+  ASSERT_TRUE(clamp.has_value() && repeat.has_value());
+  EXPECT_TRUE(clamp->pixels == repeat->pixels);  // bit for bit
+}
+
+TEST_F(PlaneProjection, LinearInterpolatesInLinearLight) {
+  // 2 x 1: red 0 and 1, green .5 in both. At (u, v) = (0.5, 0.5) (x = 0.5),
+  // halfway: stored-value red .5; in linear light (0 + 1) / 2 = .5, encoded
+  // back to sRGB 1.055 * 0.5^(1/2.4) - 0.055 = 0.7353570. Green stays .5.
+  const std::vector<float> texels = {0, 0.5f, 0, 1, 1, 0.5f, 0, 1};
+  auto plane = make_proxy(PlaneParams{{-1, 0, -1}, {2, 0, 0}, {0, 0, 2}});
+  ASSERT_TRUE(plane.has_value());
+  ProjectionSource src{*plane, {2, 1, texels.data()}, std::nullopt};
+  auto stored = render_preview(quad_, scene_, src, options_);
+  src.linear = true;
+  auto linear = render_preview(quad_, scene_, src, options_);
+  ASSERT_TRUE(stored.has_value() && linear.has_value());
+  EXPECT_NEAR(stored->pixel(32, 32)[0], 0.5f, 1e-5);
+  EXPECT_NEAR(linear->pixel(32, 32)[0], 0.7353570f, 1e-5);
+  EXPECT_NEAR(linear->pixel(32, 32)[1], 0.5f, 1e-5);
 }
 
 // A sphere (centre (0, 0, h), radius R) above the floor z = 0, seen straight

@@ -1,11 +1,11 @@
 // Results of texbake/texbake.h: Stats worked out by hand, the atlas pipeline
 // against its stages called one by one, and the writers.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 #include "bake/atlas/dilate.h"
 #include "tests/bake/bunny_earth.h"

@@ -1,0 +1,45 @@
+// The shading rule's per-job set-up (the per-sample part is inline in shade.h).
+#include "bake/shade/shade.h"
+
+#include <cstddef>
+#include <variant>
+
+#include "bake/util/parallel.h"
+
+namespace texbake {
+
+WorkingImage working_image(const ImageView& image, bool linear) {
+  WorkingImage out;
+  out.view = image;
+  if (!linear) return out;
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  out.pixels.assign(image.data, image.data + pixels * 4);
+  float* data = out.pixels.data();
+  parallel_for_chunks(pixels, 16384, [data](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      for (int k = 0; k < 3; ++k) data[4 * i + k] = srgb_to_linear(data[4 * i + k]);
+    }
+  });
+  out.view.data = data;
+  return out;
+}
+
+ShadeRule make_shade_rule(const ImageView& image, const Proxy& proxy,
+                          const VertexBakeOptions& options) {
+  ShadeRule rule;
+  rule.image = image;
+  rule.linear = options.linear;
+  rule.wrap_u = wrap_u(proxy);
+  rule.wrap_v = wrap_v(proxy);
+  if (std::holds_alternative<Plane>(proxy) && options.plane_wrap == WrapMode::kRepeat) {
+    rule.wrap_u = rule.wrap_v = WrapMode::kRepeat;
+    rule.has_outside = false;
+  }
+  rule.outside_constant = options.outside == OutsideMode::kColor;
+  rule.outside_color = rule.working(options.outside_color);
+  rule.occluded = options.occluded;
+  rule.occluded_color = rule.working(options.occluded_color);
+  return rule;
+}
+
+}  // namespace texbake
