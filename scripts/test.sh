@@ -19,9 +19,10 @@ texbake_jobs=$(nproc 2>/dev/null || echo 2)
 # Tests left out of the sanitizer stage, because they run 10-100x slower
 # under ASan and cover no code the remaining tests do not: UV generation on
 # the data/ meshes (Data/...), UV generation twice for the
-# thread-count comparison, and the SIGKILL tests (a 360k-vertex bake, several
-# times). The Release stage runs them all.
-texbake_asan_exclude='Data|IdenticalWithOneAndTwoThreads|BakeAtomicity'
+# thread-count comparison, the SIGKILL tests (a 360k-vertex bake, several
+# times) and the signal tests of tests/cli/hardening_test.cpp (4096 atlases,
+# twice each). The Release stage runs them all.
+texbake_asan_exclude='Data|IdenticalWithOneAndTwoThreads|BakeAtomicity|Hardening.Sig'
 
 stage() {
   local name=$1

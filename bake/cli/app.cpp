@@ -3,6 +3,9 @@
 // to 2 (--help stays 0).
 #include "bake/cli/app.h"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <new>
 
@@ -76,7 +79,19 @@ int run_parsed(CliApp& cli) {
   const CLI::App* sub = parsed_subcommand(cli);
   if (!sub) return 2;
   try {
-    return cli.runs.at(sub)();
+    const int code = cli.runs.at(sub)();
+    // Results printed to a full or closed stdout are lost: that is a failure
+    // (map, fit and info print their results; issue #12).
+    std::cout.flush();
+    if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+      const int err = errno;
+      if (code == 0) {
+        return report_error(
+            texbake::ErrorCode::kIo,
+            std::string("cannot write to standard output (") + std::strerror(err) + ")");
+      }
+    }
+    return code;
   } catch (const std::bad_alloc&) {
     return report_error(texbake::ErrorCode::kInternal, "out of memory");
   } catch (const std::exception& e) {

@@ -22,6 +22,7 @@
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
+#include "bake/cli/file_checks.h"
 #include "bake/cli/geometry_flags.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/proxy_for_mesh.h"
@@ -204,9 +205,23 @@ int run_bake(const BakeCliOptions& o) {
     }
   }
 
-  // ---- Outputs must be writable before the long work (exit 1). ----
   const std::vector<fs::path> outputs =
       atlas ? atlas_files(output, write_options) : std::vector<fs::path>{output};
+  // ---- No output may overwrite an input or another output (exit 2). ----
+  {
+    std::vector<NamedFile> written{{"-o", output}};
+    if (outputs.size() == 3) {
+      written.push_back({"the material of -o", outputs[1]});
+      written.push_back({"the atlas image of -o", outputs[2]});
+    }
+    written.push_back({"--report", o.report});
+    const std::vector<NamedFile> read{{"MESH", o.mesh},
+                                      {"--texture", o.texture},
+                                      {"--proxy-file", o.geometry.proxy_file.value_or("")}};
+    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
+  }
+
+  // ---- Outputs must be writable before the long work (exit 1). ----
   for (const fs::path& p : outputs) {
     if (Status s = check_writable(p); !s) return report_error(s.error());
   }
@@ -255,6 +270,7 @@ int run_bake(const BakeCliOptions& o) {
   report.load += seconds_since(stage_start);
   report.image_width = image->width;
   report.image_height = image->height;
+  warn_nonfinite(*image, o.texture);
 
   std::string what, written = o.output;  // the summary line: what was baked, where
   if (atlas) {
@@ -286,6 +302,9 @@ int run_bake(const BakeCliOptions& o) {
     Expected<VertexColors> baked =
         bake_vertex_colors(mesh->mesh, std::move(*image), proxy, shading, run);
     if (!baked) return report_mesh_error(baked.error(), o.mesh);
+    for (const std::string& w : baked->stats.warnings) {
+      std::cerr << "texbake: warning: " << w << "\n";
+    }
     const auto write_start = Clock::now();
     if (Status s = write_vertex_colors(output, mesh->mesh, baked->colors, write_options); !s) {
       return report_error(s.error());

@@ -15,6 +15,7 @@
 
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
+#include "bake/cli/file_checks.h"
 #include "bake/cli/geometry_flags.h"
 #include "bake/cli/proxy_for_mesh.h"
 #include "mesh_io/atomic_file.h"
@@ -149,6 +150,13 @@ int run_render(const RenderArgs& args) {
 
   const std::filesystem::path output =
       args.output.empty() ? default_output(args.mesh) : std::filesystem::path(args.output);
+  if (Status st = check_distinct_files({{"MESH", args.mesh},
+                                        {"--texture", args.texture},
+                                        {"--proxy-file", args.geometry.proxy_file.value_or("")}},
+                                       {{"-o", output}});
+      !st) {
+    return report_error(st.error());
+  }
   if (Status st = check_writable(output); !st) return report_error(st.error());
   RunOptions run;
   run.threads = args.threads;
@@ -173,6 +181,7 @@ int run_render(const RenderArgs& args) {
   if (proxy) {
     auto img = read_image(args.texture);
     if (!img) return report_error(img.error());
+    warn_nonfinite(*img, args.texture);
     texture = std::move(img).value();
     source =
         ProjectionSource{*proxy, texture.view(), outside, args.wrap.value_or(WrapMode::kClamp)};
@@ -189,6 +198,7 @@ int run_render(const RenderArgs& args) {
     }
     auto img = read_image(mesh.texture_path);
     if (!img) return report_error(img.error());
+    warn_nonfinite(*img, mesh.texture_path);
     texture = std::move(img).value();
     source = AtlasSource{texture.view()};
   } else if (choice == ColorChoice::kVertex) {

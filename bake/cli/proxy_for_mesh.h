@@ -2,8 +2,7 @@
 // --proxy-file, or the geometry flags completed by texbake::complete_proxy
 // (every field not given is fitted to the mesh by complete_spec's rules,
 // bake/fit/complete_proxy.h), with messages naming flags and the fit
-// printed. (It takes over bake/cli/fit_geometry.h's resolve_proxy, which
-// called complete_spec around the API.)
+// printed.
 #pragma once
 
 #include <ostream>

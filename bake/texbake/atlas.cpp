@@ -87,6 +87,11 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
     c.texels = baked->counts.texels;
     c.border_samples = baked->counts.border_samples;
     c.padded = baked->counts.padded;
+    if (Status s =
+            detail::check_mapped(c.undefined, c.samples, "atlas samples", atlas.stats.warnings);
+        !s) {
+      return s.error();
+    }
     t.rasterize = baked->timings.rasterize;
     t.scene_build = baked->timings.scene_build;
     t.bake = baked->timings.sample;

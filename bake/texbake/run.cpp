@@ -2,6 +2,7 @@
 #include "bake/texbake/run.h"
 
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace texbake {
@@ -54,6 +55,25 @@ namespace detail {
 Error as_input(Error error) {
   if (category(error) == ErrorCategory::kUsage) error.code = ErrorCode::kParse;
   return error;
+}
+
+Status check_mapped(std::size_t undefined, std::size_t total, const std::string& what,
+                    std::vector<std::string>& warnings) {
+  if (total > 0 && undefined == total) {
+    return make_error(ErrorCode::kParse,
+                      "the proxy maps none of the mesh's " + std::to_string(total) + " " + what +
+                          " (no (u, v) for any of them: is the proxy's geometry far off the "
+                          "mesh's scale?)");
+  }
+  if (total > 0 && static_cast<double>(undefined) > kUndefinedWarnShare * total) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%.1f", 100.0 * undefined / total);
+    warnings.push_back(std::to_string(undefined) + " of " + std::to_string(total) + " " + what +
+                       " (" + share +
+                       " %) have no mapping through the proxy; they are "
+                       "treated as occluded");
+  }
+  return ok_status();
 }
 
 Counts mesh_counts(const MeshData& mesh) {

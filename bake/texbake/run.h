@@ -53,6 +53,14 @@ Counts bake_counts(const MeshData& mesh, const BakeCounts& b) {
   return c;
 }
 
+// A proxy that maps nothing of the mesh (issue #12): when all `total`
+// points (vertices, or atlas samples) have no mapping (status undefined),
+// kParse "the proxy maps none of the mesh's N WHAT ..."; when more than
+// kUndefinedWarnShare of them have none, a warning in `warnings`.
+inline constexpr double kUndefinedWarnShare = 0.5;
+Status check_mapped(std::size_t undefined, std::size_t total, const std::string& what,
+                    std::vector<std::string>& warnings);
+
 // kUsage "the image has no pixels" for an empty view.
 Status check_image(const ImageView& image);
 

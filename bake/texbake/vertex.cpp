@@ -38,6 +38,10 @@ Expected<VertexColors> bake(const MeshData& mesh, const ImageView& image, const 
     c = detail::bake_counts(mesh, baked->counts);
     c.filled = baked->counts.filled;
     c.unfilled = baked->counts.unfilled;
+    if (Status s = detail::check_mapped(c.undefined, c.vertices, "vertices", out.stats.warnings);
+        !s) {
+      return s.error();
+    }
     Timings& t = out.stats.timings;
     t.scene_build = baked->timings.scene_build;
     t.bake = baked->timings.bake;
