@@ -77,7 +77,7 @@ struct Layout {
 };
 
 // The generated UV layout of mesh `which` at `size` (gutter: the default
-// padding, at least 2, as run_atlas_job uses), computed once.
+// padding, at least 2, as lay_out_uvs uses, bake/uv/uv_layout.h), computed once.
 const Layout& layout(int which, int size) {
   static std::map<std::pair<int, int>, Layout> cache;
   auto it = cache.find({which, size});

@@ -123,7 +123,7 @@ const EmbreeScene& scene_for(int64_t mesh_index) {
   return *cache[mesh_index];
 }
 
-constexpr std::size_t kGrain = 4096;  // as bake/visibility.cpp
+constexpr std::size_t kGrain = 4096;  // as bake/trace/visibility.cpp
 
 void BM_VisibilityOurs(benchmark::State& state) {
   ThreadLimit limit(static_cast<int>(state.range(1)));

@@ -1,4 +1,4 @@
-// Fit time of each proxy kind (bake/fit_proxy.h) on the armadillo subdivided
+// Fit time of each proxy kind (bake/fit/fit_proxy.h) on the armadillo subdivided
 // to 832,000 triangles (two rounds of 1-to-4 midpoint subdivision in memory:
 // 416,002 unique vertices). Target: at most 1 s per fit (issue #5).
 //

@@ -2,19 +2,19 @@
 // into a texture atlas over a mesh's per-corner UV layout.
 //
 // Stages (each timed):
-//  1. rasterise (bake/atlas_raster.h): covered texels (conservative, so no
+//  1. rasterise (bake/atlas/atlas_raster.h): covered texels (conservative, so no
 //     bilinear lookup from inside a triangle reads an unbaked texel) and
 //     their `samples` supersamples, each with its triangle and barycentrics;
 //  2. sample: each sample's 3D point (barycentric on its triangle) goes
 //     through the proxy's inverse_map and, with Visibility::kFirst, the
-//     visibility ray of bake/visibility.h; visible samples take the bilinear
+//     visibility ray of bake/trace/visibility.h; visible samples take the bilinear
 //     image sample (kOutside samples follow options.outside); occluded and
 //     undefined samples follow options.occluded: kProject the projected colour
 //     (undefined ones have none: they are filled), kColor the constant, kFill
-//     the per-vertex inpainting of bake/occlusion_fill.h (through bake_vertex
+//     the per-vertex inpainting of bake/vertex/occlusion_fill.h (through bake_vertex
 //     with the bilinear filter) interpolated barycentrically over the sample's
 //     triangle. A texel is the plain mean of its samples.
-//  3. pad (bake/dilate.h): `padding` rings of 8-neighbour dilation, or
+//  3. pad (bake/atlas/dilate.h): `padding` rings of 8-neighbour dilation, or
 //     push-pull over the whole background for kPaddingInfinite.
 // Stages 1 and 2 run band by band (AtlasBands, kAtlasBandRows rows at a
 // time, in parallel), so the samples of the whole atlas are never held at
@@ -43,7 +43,7 @@
 
 namespace texbake {
 
-inline constexpr int kPaddingDefault = -1;   // default_padding(size) (bake/dilate.h)
+inline constexpr int kPaddingDefault = -1;   // default_padding(size) (bake/atlas/dilate.h)
 inline constexpr int kPaddingInfinite = -2;  // push-pull fill of the whole background
 
 struct AtlasBakeOptions {

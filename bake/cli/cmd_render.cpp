@@ -1,5 +1,5 @@
 // texbake render MESH: a Phong-shaded, ray-traced preview (SPEC section 5;
-// bake/render_preview.h has the camera, lighting and sampling conventions).
+// bake/render/render_preview.h has the camera, lighting and sampling conventions).
 // Thin: parse -> options -> load -> (fit the geometry flags not given, as
 // bake does) -> one render_mesh call (texbake/texbake.h) -> atomic write.
 #include <cmath>

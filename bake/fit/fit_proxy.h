@@ -1,6 +1,6 @@
 // Proxy fitting (SPEC section 6): the parameters of a sphere, cylinder, cone,
 // disk, quad or plane that wrap a point set, computed with CGAL (only
-// bake/fit_proxy.cpp includes CGAL; it builds into the texbake_fit library).
+// bake/fit/fit_proxy.cpp includes CGAL; it builds into the texbake_fit library).
 //
 // What each fit returns (all vectors unit, every optional field filled):
 //  - sphere: the minimum enclosing sphere (CGAL Min_sphere_of_spheres_d).

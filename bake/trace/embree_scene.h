@@ -63,7 +63,7 @@ class EmbreeScene {
   double diagonal() const;
   // Largest |coordinate| of the referenced vertices: float positions have an
   // absolute precision of about this times 2^-24, which bounds how small a
-  // ray offset may be (bake/visibility.h).
+  // ray offset may be (bake/trace/visibility.h).
   double max_abs_coordinate() const;
 
   // occluded[i] = 1 if ray i hits any triangle with t in [tnear, tfar], else 0.

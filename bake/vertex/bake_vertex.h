@@ -16,11 +16,11 @@
 //     texel; colour: the constant enters the average); kUndefined samples are
 //     left out of the average. A plane with plane_wrap = kRepeat has no outside.
 //  3. Visibility (options.visibility = kFirst) is decided once per vertex: the
-//     ray from the vertex along its d(P) (bake/visibility.h). Deciding it per
+//     ray from the vertex along its d(P) (bake/trace/visibility.h). Deciding it per
 //     sample would cost `samples` times the rays for a difference confined to
 //     the one-ring of shadow boundaries, which the fill smooths anyway; a
 //     vertex is the unit that --occluded acts on and the report counts.
-//  4. Occluded vertices follow options.occluded: kFill (bake/occlusion_fill.h),
+//  4. Occluded vertices follow options.occluded: kFill (bake/vertex/occlusion_fill.h),
 //     kProject (the projected colour) or kColor. Vertices without any mapping
 //     (every sample undefined, or the vertex itself undefined, e.g. at a
 //     sphere's centre) are treated as occluded, except that kProject fills

@@ -1,5 +1,5 @@
 // texbake render --up without a proxy: the world up of the preview camera
-// (bake/render_preview.h), e.g. --up y for the y-up meshes of most scanners.
+// (bake/render/render_preview.h), e.g. --up y for the y-up meshes of most scanners.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>

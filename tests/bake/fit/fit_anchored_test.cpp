@@ -1,4 +1,4 @@
-// Tests of FitOptions::anchor and ::height (bake/fit_proxy.h): values the
+// Tests of FitOptions::anchor and ::height (bake/fit/fit_proxy.h): values the
 // user gives are kept and the rest is re-fitted around them. Expected values
 // come from the shapes' construction (points exactly on a known surface, or
 // with 1 % noise for the cone's profile) and brute-force maxima computed

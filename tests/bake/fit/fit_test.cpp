@@ -1,4 +1,4 @@
-// Tests of bake/fit_proxy.h (SPEC section 6).
+// Tests of bake/fit/fit_proxy.h (SPEC section 6).
 //
 // Synthetic shapes: points sampled (seeded) on a known sphere, cylinder,
 // cone, disk or rectangle, each displaced by noise uniform in a ball whose

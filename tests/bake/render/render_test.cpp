@@ -3,7 +3,7 @@
 // independence, contact sheets.
 //
 // All meshes are built here; the expected values come from the conventions
-// stated in bake/render_preview.h worked out by hand (or analytically), not
+// stated in bake/render/render_preview.h worked out by hand (or analytically), not
 // from the renderer's own helpers, except that the shadow test shoots its
 // analytic rays through the renderer's Camera (the camera itself is checked
 // separately in CameraConventions).
