@@ -163,7 +163,10 @@ class ArrayImporter final : public OpenMesh::IO::BaseImporter {
 
   // Completes the optional per-corner / per-vertex arrays to full length.
   void complete() {
-    if (!mesh_.corner_uv.empty()) mesh_.corner_uv.resize(mesh_.face_vertices.size(), zero_uv());
+    // zero_uv() adds a (0, 0) entry: only when some corner really lacks a UV.
+    if (!mesh_.corner_uv.empty() && mesh_.corner_uv.size() < mesh_.face_vertices.size()) {
+      mesh_.corner_uv.resize(mesh_.face_vertices.size(), zero_uv());
+    }
     if (normals_mode_ == NormalsAt::kCorner) {
       if (!mesh_.corner_normal.empty()) pad_corner_normals(mesh_.face_vertices.size());
     } else if (has_vertex_normals_) {

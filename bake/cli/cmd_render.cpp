@@ -132,13 +132,16 @@ int run_render(const RenderArgs& args) {
   // A complete proxy (all geometry flags, or a file) is validated now;
   // missing geometry flags are fitted to the mesh once it is loaded.
   std::optional<Proxy> proxy;
+  // --up also orients the camera, so with --proxy-file (which holds the whole
+  // proxy) it is the camera's alone, not a geometry flag.
+  GeometryFlags projection = args.geometry;
+  if (projection.proxy_file) projection.up.reset();
   if (projecting) {
-    if (Status st = check_geometry_flags(args.geometry, /*require_proxy=*/true); !st) {
+    if (Status st = check_geometry_flags(projection, /*require_proxy=*/true); !st) {
       return report_error(st.error());
     }
-    if (args.geometry.proxy_file ||
-        missing_geometry_flags(args.geometry, *args.geometry.kind).empty()) {
-      auto p = proxy_from_flags(args.geometry);
+    if (projection.proxy_file || missing_geometry_flags(projection, *projection.kind).empty()) {
+      auto p = proxy_from_flags(projection);
       if (!p) return report_error(p.error());
       proxy = std::move(p).value();
     }
@@ -167,7 +170,7 @@ int run_render(const RenderArgs& args) {
   // Nothing to render is the mesh's problem, reported before a fit's.
   if (Status st = check_triangles(mesh); !st) return report_mesh_error(st.error(), args.mesh);
   if (projecting && !proxy) {
-    auto fitted = proxy_for_mesh(args.geometry, mesh, args.mesh, &std::cerr, run);
+    auto fitted = proxy_for_mesh(projection, mesh, args.mesh, &std::cerr, run);
     if (!fitted) return report_error(fitted.error());
     proxy = std::move(fitted->proxy);
   }

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -63,6 +64,39 @@ TEST(RenderCliUp, UpYEqualsUpZOnTheRotatedMesh) {
   ASSERT_TRUE(wrong.has_value()) << wrong.error().message;
   EXPECT_GE(same->psnr, 50);   // the same picture up to float rounding
   EXPECT_LT(wrong->psnr, 30);  // the up axis does change the picture
+}
+
+// With --proxy-file the file holds the whole proxy, and --up is the
+// camera's alone: it is allowed, and means what it means without a proxy
+// (issue #11 item 6: it used to be exit 2).
+TEST(RenderCliUp, UpWithAProxyFileOrientsTheCamera) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("texbake_render_up_file_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  write_tetra(dir / "y_up.off", false);
+  std::ofstream(dir / "s.json")
+      << R"({"kind":"sphere","center":[0.4,0.3,0.2],"radius":1,"pole":[0,1,0],"equator":[0,0,1]})";
+  const std::string mesh = "\"" + (dir / "y_up.off").string() + "\"";
+  const std::string texture = " --texture \"" TEXBAKE_DATA_DIR "/earth.jpg\"";
+  const std::string common = " --size 48x40 --view 30,20 --samples 4 -o ";
+  ASSERT_EQ(run_render(mesh + texture + " --proxy-file \"" + (dir / "s.json").string() +
+                       "\" --up y" + common + "\"" + (dir / "file.png").string() + "\""),
+            0);
+  ASSERT_EQ(run_render(mesh + texture +
+                       " --proxy sphere --center 0.4,0.3,0.2 --radius 1 --pole 0,1,0 --equator "
+                       "0,0,1 --up y" +
+                       common + "\"" + (dir / "flags.png").string() + "\""),
+            0);
+  ASSERT_EQ(run_render(mesh + texture + " --proxy-file \"" + (dir / "s.json").string() +
+                       "\" --up z" + common + "\"" + (dir / "z.png").string() + "\""),
+            0);
+  auto same = texbake::compare_image_files(dir / "file.png", dir / "flags.png", {});
+  auto other = texbake::compare_image_files(dir / "file.png", dir / "z.png", {});
+  fs::remove_all(dir);
+  ASSERT_TRUE(same.has_value()) << same.error().message;
+  ASSERT_TRUE(other.has_value()) << other.error().message;
+  EXPECT_TRUE(std::isinf(same->psnr)) << "the file and the flags give the same proxy and camera";
+  EXPECT_LT(other->psnr, 30) << "--up still turns the camera";
 }
 
 }  // namespace

@@ -116,6 +116,28 @@ TEST_F(ReadMesh, ObjWithUvsNormalsColoursAndMaterial) {
   EXPECT_EQ(m.mesh.vertex_colors[1], (std::array<float, 4>{0, 1, 0, 1}));
   EXPECT_EQ(m.mesh.vertex_colors[3], (std::array<float, 4>{0.25f, 0.5f, 0.75f, 1}));
   EXPECT_EQ(fs::path(m.mesh.texture_path), (dir / "tex" / "paint.png").lexically_normal());
+  // Every corner has its vt: the table is the file's four, no (0, 0) added
+  // for corners without one (it used to end every OBJ written back).
+  EXPECT_EQ(m.mesh.uvs.size(), 4u);
+}
+
+TEST_F(ReadMesh, ObjCornersWithoutUvShareOneAddedZeroUv) {
+  auto m = load("partial.obj",
+                "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0.5 0.5\n"
+                "f 1/1 2/1 3/1\nf 1 3 4\n");
+  ASSERT_TRUE(m.mesh.has_uvs());
+  ASSERT_EQ(m.mesh.corner_uv.size(), 6u);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[c]].u, 0.5f) << c;
+    EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[c]].v, 0.5f) << c;
+  }
+  // The bare face's corners share one added (0, 0), and it is the only one.
+  for (int c = 3; c < 6; ++c) EXPECT_EQ(m.mesh.corner_uv[c], m.mesh.corner_uv[3]) << c;
+  EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[3]].u, 0.f);
+  EXPECT_EQ(m.mesh.uvs[m.mesh.corner_uv[3]].v, 0.f);
+  std::size_t zeros = 0;
+  for (const Float2& uv : m.mesh.uvs) zeros += (uv.u == 0.f && uv.v == 0.f) ? 1 : 0;
+  EXPECT_EQ(zeros, 1u);
 }
 
 TEST_F(ReadMesh, ObjNegativeIndicesAreRelative) {
