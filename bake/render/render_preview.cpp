@@ -94,8 +94,7 @@ struct ProjectedColor {
 // Per-thread scratch for one tile, reused across tiles (no allocation per
 // sample; the vectors grow once per thread).
 struct TileScratch {
-  std::vector<float> ox, oy, oz, dx, dy, dz;        // primary rays
-  std::vector<float> sox, soy, soz, sdx, sdy, sdz;  // shadow rays
+  RayArrays primary, shadow;
   std::vector<Hit> hits;
   std::vector<uint8_t> shadow_blocked;  // per shadow ray
   std::vector<uint32_t> shadow_sample;  // sample index of each shadow ray
@@ -104,7 +103,8 @@ struct TileScratch {
   std::vector<Rgba> albedo;
 
   void resize(std::size_t n) {
-    for (auto* v : {&ox, &oy, &oz, &dx, &dy, &dz, &sox, &soy, &soz, &sdx, &sdy, &sdz}) v->resize(n);
+    primary.resize(n);
+    shadow.resize(n);
     hits.resize(n);
     shadow_blocked.resize(n);
     shadow_sample.resize(n);
@@ -187,24 +187,11 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
           jy = ((cell / strata) + unit_from_bits(h << 24)) / strata;
         }
         const Ray r = job.camera->ray(x + jx, y + jy);
-        s.ox[i] = static_cast<float>(r.origin.x);
-        s.oy[i] = static_cast<float>(r.origin.y);
-        s.oz[i] = static_cast<float>(r.origin.z);
-        s.dx[i] = static_cast<float>(r.direction.x);
-        s.dy[i] = static_cast<float>(r.direction.y);
-        s.dz[i] = static_cast<float>(r.direction.z);
+        s.primary.set(i, r.origin, r.direction);
       }
     }
   }
-  RayBatch primary;
-  primary.org_x = s.ox.data();
-  primary.org_y = s.oy.data();
-  primary.org_z = s.oz.data();
-  primary.dir_x = s.dx.data();
-  primary.dir_y = s.dy.data();
-  primary.dir_z = s.dz.data();
-  primary.count = n;
-  ctx.scene->intersect(primary, s.hits.data());
+  ctx.scene->intersect(s.primary.batch(n), s.hits.data());
 
   // 2. Surface point, normals and albedo of every hit; shadow rays.
   const MeshData& mesh = *ctx.mesh;
@@ -218,7 +205,7 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
     const double b1 = hit.b1, b2 = hit.b2, b0 = 1.0 - b1 - b2;
     const Vec3 p = to_vec(mesh.positions[tri[0]]) * b0 + to_vec(mesh.positions[tri[1]]) * b1 +
                    to_vec(mesh.positions[tri[2]]) * b2;
-    const Vec3 dir{s.dx[i], s.dy[i], s.dz[i]};
+    const Vec3 dir{s.primary.dir_x[i], s.primary.dir_y[i], s.primary.dir_z[i]};
     Vec3 ng = normalize(to_vec(hit.normal));
     if (dot(ng, dir) > 0) ng = -ng;  // two-sided: face the viewer
     s.point[i] = p;
@@ -228,27 +215,14 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
       // Start on the light's side of the triangle so the ray cannot hit it.
       const Vec3 side = dot(ng, lights[0].direction) >= 0 ? ng : -ng;
       const Vec3 o = p + side * ctx.shadow_offset;
-      s.sox[shadows] = static_cast<float>(o.x);
-      s.soy[shadows] = static_cast<float>(o.y);
-      s.soz[shadows] = static_cast<float>(o.z);
-      s.sdx[shadows] = static_cast<float>(lights[0].direction.x);
-      s.sdy[shadows] = static_cast<float>(lights[0].direction.y);
-      s.sdz[shadows] = static_cast<float>(lights[0].direction.z);
+      s.shadow.set(shadows, o, lights[0].direction);
       s.shadow_sample[shadows] = static_cast<uint32_t>(i);
       ++shadows;
     }
   }
   std::fill(s.in_shadow.begin(), s.in_shadow.begin() + static_cast<std::ptrdiff_t>(n), 0);
   if (shadows > 0) {
-    RayBatch batch;
-    batch.org_x = s.sox.data();
-    batch.org_y = s.soy.data();
-    batch.org_z = s.soz.data();
-    batch.dir_x = s.sdx.data();
-    batch.dir_y = s.sdy.data();
-    batch.dir_z = s.sdz.data();
-    batch.count = shadows;
-    ctx.scene->occluded(batch, s.shadow_blocked.data());
+    ctx.scene->occluded(s.shadow.batch(shadows), s.shadow_blocked.data());
     for (std::size_t k = 0; k < shadows; ++k) s.in_shadow[s.shadow_sample[k]] = s.shadow_blocked[k];
     shadow_count.fetch_add(shadows, std::memory_order_relaxed);
   }

@@ -11,8 +11,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "mapping/error.h"
+#include "mapping/vec.h"
 #include "mesh_io/mesh_data.h"
 
 namespace texbake {
@@ -34,6 +36,36 @@ struct RayBatch {
   const float* tnear = nullptr;  // may be null: 0 for every ray
   const float* tfar = nullptr;   // may be null: infinity for every ray
   std::size_t count = 0;
+};
+
+// Storage for rays as structure of arrays (what RayBatch views), for callers
+// that build a batch ray by ray: set() fills slot i, batch(n) views the first
+// n (tnear 0, tfar infinity). No allocation after resize().
+struct RayArrays {
+  std::vector<float> org_x, org_y, org_z, dir_x, dir_y, dir_z;
+
+  void resize(std::size_t n) {
+    for (auto* v : {&org_x, &org_y, &org_z, &dir_x, &dir_y, &dir_z}) v->resize(n);
+  }
+  void set(std::size_t i, Vec3 origin, Vec3 direction) {
+    org_x[i] = static_cast<float>(origin.x);
+    org_y[i] = static_cast<float>(origin.y);
+    org_z[i] = static_cast<float>(origin.z);
+    dir_x[i] = static_cast<float>(direction.x);
+    dir_y[i] = static_cast<float>(direction.y);
+    dir_z[i] = static_cast<float>(direction.z);
+  }
+  RayBatch batch(std::size_t n) const {
+    RayBatch b;
+    b.org_x = org_x.data();
+    b.org_y = org_y.data();
+    b.org_z = org_z.data();
+    b.dir_x = dir_x.data();
+    b.dir_y = dir_y.data();
+    b.dir_z = dir_z.data();
+    b.count = n;
+    return b;
+  }
 };
 
 inline constexpr uint32_t kNoHit = 0xFFFFFFFFu;
