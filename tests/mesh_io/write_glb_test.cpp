@@ -64,6 +64,18 @@ tinygltf::Model load(const fs::path& glb) {
   return model;
 }
 
+// POSITION, NORMAL and the indices of the one primitive.
+struct GlbArrays {
+  std::vector<float> pos, nrm;
+  std::vector<uint32_t> idx;
+};
+GlbArrays arrays_of(const tinygltf::Model& model) {
+  const tinygltf::Primitive& prim = model.meshes.at(0).primitives.at(0);
+  return {accessor_values<float>(model, prim.attributes.at("POSITION")),
+          accessor_values<float>(model, prim.attributes.at("NORMAL")),
+          accessor_values<uint32_t>(model, prim.indices)};
+}
+
 class WriteGlbTest : public ::testing::Test {
  protected:
   void TearDown() override { fs::remove_all(dir_); }
@@ -186,11 +198,7 @@ TEST_F(WriteGlbTest, InputNormalsAreKeptVertexGlbSplitsHardEdges) {
   ASSERT_TRUE(read) << read.error().message;
   const MeshData& cube = read->mesh;
   ASSERT_TRUE(write_vertex_color_glb(dir_ / "v.glb", cube, grey(cube.vertex_count())));
-  const tinygltf::Model model = load(dir_ / "v.glb");
-  const tinygltf::Primitive& prim = model.meshes.at(0).primitives.at(0);
-  const auto pos = accessor_values<float>(model, prim.attributes.at("POSITION"));
-  const auto nrm = accessor_values<float>(model, prim.attributes.at("NORMAL"));
-  const auto idx = accessor_values<uint32_t>(model, prim.indices);
+  const auto [pos, nrm, idx] = arrays_of(load(dir_ / "v.glb"));
   // Each of the 8 corners of the cube is on 3 sides: 8 * 3 = 24 glTF
   // vertices, the first 8 the input's in order.
   ASSERT_EQ(pos.size(), 24u * 3);
@@ -213,11 +221,7 @@ TEST_F(WriteGlbTest, InputNormalsAreKeptInAtlasGlb) {
   add_uvs(cube);
   const std::vector<float> image = atlas();
   ASSERT_TRUE(write_textured_mesh(dir_ / "a.glb", cube, {2, 2, image.data()}));
-  const tinygltf::Model model = load(dir_ / "a.glb");
-  const tinygltf::Primitive& prim = model.meshes.at(0).primitives.at(0);
-  const auto pos = accessor_values<float>(model, prim.attributes.at("POSITION"));
-  const auto nrm = accessor_values<float>(model, prim.attributes.at("NORMAL"));
-  const auto idx = accessor_values<uint32_t>(model, prim.indices);
+  const auto [pos, nrm, idx] = arrays_of(load(dir_ / "a.glb"));
   ASSERT_EQ(pos.size(), 24u * 3);
   ASSERT_EQ(idx.size(), 36u);
   for (std::size_t k = 0; k < idx.size(); ++k) {
@@ -280,10 +284,7 @@ TEST_F(WriteGlbTest, MissingNormalsFallBackToSmoothThenUp) {
   ASSERT_TRUE(read) << read.error().message;
   const MeshData& m = read->mesh;
   ASSERT_TRUE(write_vertex_color_glb(dir_ / "v.glb", m, grey(m.vertex_count()), Vec3{0, -1, 0}));
-  const tinygltf::Model model = load(dir_ / "v.glb");
-  const tinygltf::Primitive& prim = model.meshes[0].primitives[0];
-  const auto nrm = accessor_values<float>(model, prim.attributes.at("NORMAL"));
-  const auto idx = accessor_values<uint32_t>(model, prim.indices);
+  const auto [pos, nrm, idx] = arrays_of(load(dir_ / "v.glb"));
   ASSERT_EQ(idx.size(), 6u);
   auto normal_of = [&](std::size_t k) {
     return std::array<float, 3>{nrm[idx[k] * 3], nrm[idx[k] * 3 + 1], nrm[idx[k] * 3 + 2]};
