@@ -284,7 +284,9 @@ TEST_F(WriteGlbTest, MissingNormalsFallBackToSmoothThenUp) {
   ASSERT_TRUE(read) << read.error().message;
   const MeshData& m = read->mesh;
   ASSERT_TRUE(write_vertex_color_glb(dir_ / "v.glb", m, grey(m.vertex_count()), Vec3{0, -1, 0}));
-  const auto [pos, nrm, idx] = arrays_of(load(dir_ / "v.glb"));
+  const GlbArrays glb = arrays_of(load(dir_ / "v.glb"));
+  const std::vector<float>& nrm = glb.nrm;
+  const std::vector<uint32_t>& idx = glb.idx;
   ASSERT_EQ(idx.size(), 6u);
   auto normal_of = [&](std::size_t k) {
     return std::array<float, 3>{nrm[idx[k] * 3], nrm[idx[k] * 3 + 1], nrm[idx[k] * 3 + 2]};
