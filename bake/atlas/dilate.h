@@ -1,11 +1,11 @@
-// Atlas padding (SPEC section 4): grow the baked charts into the unbaked
-// gutter so that mipmapping and filtering renderers never blend in the
-// background.
+// Atlas padding (SPEC section 4, issue #11 item 4): grow the baked charts
+// into the unbaked gutter so that mipmapping and filtering renderers never
+// blend in the background.
 //
 // Images here are RGBA float, width * height * 4 values, row-major (the
 // layout of ImageView). `baked` has one byte per texel: non-zero = holds a
 // baked colour. Baked texels are never changed by either function; all four
-// channels are treated alike.
+// channels are treated alike (except push_pull_fill's FillAlpha::kTransparent).
 #pragma once
 
 #include <cstddef>
@@ -28,14 +28,27 @@ int default_padding(int size);
 std::size_t dilate(std::span<float> rgba, std::span<uint8_t> baked, int width, int height,
                    int texels);
 
-// --padding inf: fills every unbaked texel by push-pull (Gortler et al.,
-// "The Lumigraph", SIGGRAPH 1996, section 3.3): pull averages the baked
-// texels down a pyramid of half-resolution levels (weights summed and clamped
-// to 1); push fills each level's holes with the bilinear upsampling of the
-// next coarser level, blended by the hole's weight. The background becomes a
-// smooth continuation of the charts. Returns the number of texels filled
-// (0 and the image untouched if nothing is baked).
+// What push_pull_fill writes into a filled texel's alpha.
+enum class FillAlpha {
+  kPushPull,     // alpha is pushed and pulled like the colour (--padding inf: an opaque image)
+  kTransparent,  // alpha 0: the colour continues the charts, alpha stays the coverage (default)
+};
+
+// Fills every unbaked texel by push-pull (Gortler et al., "The Lumigraph",
+// SIGGRAPH 1996, section 3.3; what Substance and MeshLab call infinite
+// padding): pull averages the baked texels down a pyramid of half-resolution
+// levels to 1 x 1 (each level's texel the weighted mean of its 2 x 2
+// children, weights summed and clamped to 1); push fills each level's holes
+// with the bilinear upsampling of the next coarser level, blended by the
+// hole's weight. The background becomes a smooth continuation of the
+// charts (every filled value is a convex combination of baked texels), so
+// box-filtered mip levels near a chart average chart colours, never black.
+// Channels 0-2 always, channel 3 as `alpha` says. Baked texels are not
+// changed. Returns the number of texels filled (0 and the image untouched if
+// nothing or everything is baked). Work and memory linear in the texels
+// (the coarser levels: a third of the image); parallel; the result does not
+// depend on the thread count.
 std::size_t push_pull_fill(std::span<float> rgba, std::span<const uint8_t> baked, int width,
-                           int height);
+                           int height, FillAlpha alpha = FillAlpha::kPushPull);
 
 }  // namespace texbake
