@@ -389,10 +389,10 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
     std::vector<uint8_t> mask = result.baked;
     result.counts.padded = dilate(result.atlas.pixels, mask, n, n, rings);
     if (options.padding == kPaddingDefault) {
-      // The rest of the background: colour by push-pull from the charts and
-      // their rings (mip levels never average in black), alpha 0 (coverage).
+      // The rest of the background: colour by the mip-safe push-pull from
+      // the charts and their rings, alpha 0 (coverage).
       result.counts.padded +=
-          push_pull_fill(result.atlas.pixels, mask, n, n, FillAlpha::kTransparent);
+          push_pull_fill(result.atlas.pixels, mask, n, n, PushPullMode::kMipSafe);
     }
   }
   result.timings.pad = seconds_since(t0);

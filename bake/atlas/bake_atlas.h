@@ -19,7 +19,7 @@
 //     - kPaddingDefault: default_padding(size) rings of 8-neighbour dilation
 //       (all four channels: the rings are opaque), then push-pull of the
 //       colour over the rest of the background with alpha 0
-//       (FillAlpha::kTransparent). Every texel then holds a chart colour or a
+//       (PushPullMode::kMipSafe). Every texel then holds a chart colour or a
 //       smooth continuation of the charts, so the box-filtered mip levels a
 //       client builds never average in black; alpha still says which texels
 //       are baked (or padding rings) for clients that use it;

@@ -128,7 +128,7 @@ std::size_t dilate(std::span<float> rgba, std::span<uint8_t> baked, int width, i
 // row-parallel from the one before, each texel from its own inputs only, so
 // the result does not depend on the thread count. Work: linear in texels.
 std::size_t push_pull_fill(std::span<float> rgba, std::span<const uint8_t> baked, int width,
-                           int height, FillAlpha alpha) {
+                           int height, PushPullMode mode) {
   const std::size_t count = static_cast<std::size_t>(width) * height;
   assert(rgba.size() >= count * 4 && baked.size() >= count);
   const std::size_t baked_count =
@@ -177,10 +177,20 @@ std::size_t push_pull_fill(std::span<float> rgba, std::span<const uint8_t> baked
     levels.push_back(std::move(coarse));
   }
 
-  // Push: from the coarsest level down, blend each texel with the bilinear
-  // upsampling of the (already filled) coarser level: c = w c + (1 - w) up.
-  // Fine texel x sits at coarse position (x + 0.5) / 2 - 0.5; edges clamp.
-  // At level 0 only the holes (weight 0) change: they become `up`.
+  // Push, from the coarsest level down. Fine texel x sits at coarse
+  // position (x + 0.5) / 2 - 0.5; edges clamp. Holes (weight < 1; level-0
+  // holes have weight 0) become c = w c + (1 - w) up, where up is:
+  //  - kOpaque: the bilinear upsampling of the (already filled) coarser level;
+  //  - kMipSafe: if x's parent holds data (weight > 0), the bilinear
+  //    upsampling over those of the four coarse texels that hold data
+  //    (weights renormalised; the parent is one of them), else the parent's
+  //    filled value. So a hole takes its value from the first level up where
+  //    its ancestor holds data, from that ancestor and its data-holding
+  //    neighbours only: inside any 2^k-aligned block that holds baked texels,
+  //    every filled value is a convex combination of baked texels of that
+  //    block and its 8 neighbours, and the block's box mean (its mip texel)
+  //    stays within their range. The plain bilinear push can draw from
+  //    farther (a neighbour filled from much coarser levels).
   for (int k = static_cast<int>(levels.size()) - 1; k >= 0; --k) {
     Level* fine = k > 0 ? &levels[k - 1] : nullptr;
     const Level& coarse = levels[k];
@@ -195,21 +205,42 @@ std::size_t push_pull_fill(std::span<float> rgba, std::span<const uint8_t> baked
           const double cx = (x + 0.5) / 2 - 0.5, cy = (y + 0.5) / 2 - 0.5;
           const int x0 = static_cast<int>(std::floor(cx)), y0 = static_cast<int>(std::floor(cy));
           const double fx = cx - x0, fy = cy - y0;
-          auto at = [&](int xx, int yy) -> const std::array<float, 4>& {
+          auto index = [&](int xx, int yy) {
             xx = std::clamp(xx, 0, coarse.w - 1);
             yy = std::clamp(yy, 0, coarse.h - 1);
-            return coarse.c[static_cast<std::size_t>(yy) * coarse.w + xx];
+            return static_cast<std::size_t>(yy) * coarse.w + xx;
           };
-          const auto &c00 = at(x0, y0), &c10 = at(x0 + 1, y0), &c01 = at(x0, y0 + 1),
-                     &c11 = at(x0 + 1, y0 + 1);
+          const std::size_t corner[4] = {index(x0, y0), index(x0 + 1, y0), index(x0, y0 + 1),
+                                         index(x0 + 1, y0 + 1)};
+          double bw[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+          const std::size_t parent = static_cast<std::size_t>(y / 2) * coarse.w + x / 2;
+          const bool inherit = mode == PushPullMode::kMipSafe && coarse.wt[parent] == 0;
+          if (mode == PushPullMode::kMipSafe && !inherit) {
+            double sum = 0;
+            for (int q = 0; q < 4; ++q) {
+              if (coarse.wt[corner[q]] == 0) bw[q] = 0;
+              sum += bw[q];
+            }
+            for (double& b : bw) b /= sum;  // sum > 0: the parent is a corner
+          }
           for (int ch = 0; ch < 4; ++ch) {
-            const double top = c00[ch] + fx * (c10[ch] - c00[ch]);
-            const double bottom = c01[ch] + fx * (c11[ch] - c01[ch]);
-            const double up = top + fy * (bottom - top);
+            double up = 0;
+            if (inherit) {
+              up = coarse.c[parent][ch];
+            } else if (mode == PushPullMode::kOpaque) {
+              // The bilinear form of the original implementation (same bits).
+              const double top = coarse.c[corner[0]][ch] +
+                                 fx * (coarse.c[corner[1]][ch] - coarse.c[corner[0]][ch]);
+              const double bottom = coarse.c[corner[2]][ch] +
+                                    fx * (coarse.c[corner[3]][ch] - coarse.c[corner[2]][ch]);
+              up = top + fy * (bottom - top);
+            } else {
+              for (int q = 0; q < 4; ++q) up += bw[q] * coarse.c[corner[q]][ch];
+            }
             const double own = fine ? fine->c[i][ch] : 0.0;
             out[ch] = static_cast<float>(w * own + (1 - w) * up);
           }
-          if (!fine && alpha == FillAlpha::kTransparent) out[3] = 0.f;
+          if (!fine && mode == PushPullMode::kMipSafe) out[3] = 0.f;
         }
       }
     });
