@@ -247,19 +247,24 @@ TEST(AtlasBake, OccludedSamplesFollowTheOccludedMode) {
   }
 }
 
+// One triangle in the middle of a 64 x 64 atlas under the default plane.
+struct PaddingScene {
+  Image img = smooth_image(64, 32);
+  MeshData mesh = test::make_triangle_soup({{0, 0, 1}, {1, 0, 1}, {0, 1, 1}},
+                                           {{0.3f, 0.3f}, {0.6f, 0.3f}, {0.3f, 0.6f}});
+  Proxy plane = make_proxy(PlaneParams{}).value();
+  AtlasBakeResult bake(int padding) const {
+    AtlasBakeOptions o = options(64, 1);
+    o.padding = padding;
+    return bake_atlas(mesh, img.view(), plane, o).value();
+  }
+};
+
 TEST(AtlasBake, PaddingFillsTheGutterAndBakedTexelsStay) {
-  const Image img = smooth_image(64, 32);
-  const MeshData mesh = test::make_triangle_soup({{0, 0, 1}, {1, 0, 1}, {0, 1, 1}},
-                                                 {{0.3f, 0.3f}, {0.6f, 0.3f}, {0.3f, 0.6f}});
-  PlaneParams pp;
-  const Proxy plane = make_proxy(pp).value();
-  AtlasBakeOptions o = options(64, 1);
-  o.padding = 0;
-  auto none = bake_atlas(mesh, img.view(), plane, o).value();
-  o.padding = 3;
-  auto three = bake_atlas(mesh, img.view(), plane, o).value();
-  o.padding = kPaddingInfinite;
-  auto inf = bake_atlas(mesh, img.view(), plane, o).value();
+  const PaddingScene scene;
+  auto none = scene.bake(0);
+  auto three = scene.bake(3);
+  auto inf = scene.bake(kPaddingInfinite);
   std::size_t covered = 0;
   for (std::size_t t = 0; t < none.baked.size(); ++t) {
     covered += none.baked[t];
@@ -283,18 +288,10 @@ TEST(AtlasBake, PaddingFillsTheGutterAndBakedTexelsStay) {
 // many (all four channels), every other texel alpha 0 with a colour inside
 // the range of the covered ones (push-pull of chart colours, never black).
 TEST(AtlasBake, DefaultPaddingIsRingsThenTransparentPushPull) {
-  const Image img = smooth_image(64, 32);
-  const MeshData mesh = test::make_triangle_soup({{0, 0, 1}, {1, 0, 1}, {0, 1, 1}},
-                                                 {{0.3f, 0.3f}, {0.6f, 0.3f}, {0.3f, 0.6f}});
-  PlaneParams pp;
-  const Proxy plane = make_proxy(pp).value();
-  AtlasBakeOptions o = options(64, 1);
-  o.padding = 0;
-  auto none = bake_atlas(mesh, img.view(), plane, o).value();
-  o.padding = default_padding(64);
-  auto rings = bake_atlas(mesh, img.view(), plane, o).value();
-  o.padding = kPaddingDefault;
-  auto def = bake_atlas(mesh, img.view(), plane, o).value();
+  const PaddingScene scene;
+  auto none = scene.bake(0);
+  auto rings = scene.bake(default_padding(64));
+  auto def = scene.bake(kPaddingDefault);
   float lo[3] = {2, 2, 2}, hi[3] = {-1, -1, -1};
   for (std::size_t t = 0; t < none.baked.size(); ++t) {
     if (!none.baked[t]) continue;

@@ -108,17 +108,23 @@ TEST(AtlasDilate, PushPullNothingBakedLeavesImage) {
   for (float v : img.rgba) EXPECT_EQ(v, kUnset);
 }
 
+// About 5 % of the texels baked with random values in [0.25, 0.75].
+Img random_sparse(int w, int h, unsigned seed) {
+  Img img(w, h);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> val(0.25f, 0.75f), unit(0, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (unit(rng) < 0.05f) img.set(x, y, val(rng));
+  return img;
+}
+
 // A larger odd-sized image with random baked texels: every hole is filled
 // with a convex combination of baked values (within their range), baked
 // texels are bit-identical, results do not depend on the thread count.
 TEST(AtlasDilate, PushPullFillsEverythingWithinRangeAndIsDeterministic) {
   const int w = 77, h = 45;
-  Img img(w, h);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> val(0.25f, 0.75f), unit(0, 1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (unit(rng) < 0.05f) img.set(x, y, val(rng));
+  const Img img = random_sparse(w, h, 3);
   Img one = img, two = img, dil1 = img, dil2 = img;
   {
     ThreadLimit limit(1);
@@ -184,12 +190,7 @@ TEST(AtlasDilate, MipSafePushPullHandComputed) {
 // within the baked range, holes transparent.
 TEST(AtlasDilate, MipSafePushPullWithinRangeAndDeterministic) {
   const int w = 77, h = 45;
-  Img img(w, h);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> val(0.25f, 0.75f), unit(0, 1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (unit(rng) < 0.05f) img.set(x, y, val(rng));
+  const Img img = random_sparse(w, h, 5);
   Img one = img, two = img;
   {
     ThreadLimit limit(1);

@@ -75,13 +75,18 @@ long long overlap_warning(const std::vector<std::string>& warnings) {
   return -1;
 }
 
+AtlasOptions proxy_layout(int size) {
+  AtlasOptions ao;
+  ao.uv = UvLayout::kProxy;
+  ao.bake.size = size;
+  return ao;
+}
+
 TEST(AtlasProxyOverlap, BunnyWarningCountsWhatATestSideRasterCounts) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_NE(be, nullptr);
   for (int n : {512, 2048}) {
-    AtlasOptions ao;
-    ao.uv = UvLayout::kProxy;
-    ao.bake.size = n;
+    AtlasOptions ao = proxy_layout(n);
     ao.bake.samples = 1;
     Expected<Atlas> atlas = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, ao);
     ASSERT_TRUE(atlas) << atlas.error().message;
@@ -100,9 +105,7 @@ TEST(AtlasProxyOverlap, BunnyWarningCountsWhatATestSideRasterCounts) {
 TEST(AtlasProxyOverlap, BunnyAtlasIsIndependentOfThreadCount) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_NE(be, nullptr);
-  AtlasOptions ao;
-  ao.uv = UvLayout::kProxy;
-  ao.bake.size = 256;
+  const AtlasOptions ao = proxy_layout(256);
   RunOptions one, two;
   one.threads = 1;
   two.threads = 2;
@@ -139,9 +142,7 @@ double mesh_psnr(const RenderImage& a, const RenderImage& b) {
 TEST(AtlasProxyOverlap, BunnyProxyAtlasRendersLikeDirectProjection) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_NE(be, nullptr);
-  AtlasOptions ao;
-  ao.uv = UvLayout::kProxy;
-  ao.bake.size = 1024;
+  AtlasOptions ao = proxy_layout(1024);
   ao.bake.shading.linear = false;
   Expected<Atlas> atlas = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, ao);
   ASSERT_TRUE(atlas) << atlas.error().message;
@@ -198,9 +199,7 @@ TEST(AtlasProxyOverlap, SharedTexelsTakeTheVisibleSurfacesColour) {
     pos.insert(pos.end(), other.begin(), other.end());
     std::vector<Float2> uv(pos.size(), Float2{0, 0});  // --uv proxy ignores them
     const MeshData mesh = test::make_triangle_soup(pos, uv);
-    AtlasOptions ao;
-    ao.uv = UvLayout::kProxy;
-    ao.bake.size = n;
+    AtlasOptions ao = proxy_layout(n);
     ao.bake.padding = 0;
     ao.bake.shading.occluded = OccludedMode::kColor;
     ao.bake.shading.occluded_color = {1, 0, 0, 1};
