@@ -22,7 +22,13 @@ texbake_build_packages=(
 texbake_test_packages=(
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev
+  nodejs
 )
+# Node.js runs the Khronos glTF-Validator of the tests (tests/gltf; the
+# suite's GltfValidator.Install fetches it with npm from the npm registry
+# into the build folder). Debian's npm only when no npm came with Node.js
+# (NodeSource's nodejs ships its own and conflicts with Debian's).
+if ! command -v npm >/dev/null 2>&1; then texbake_test_packages+=(npm); fi
 
 texbake_install_packages() {
   local missing=()
