@@ -49,13 +49,14 @@ Status check_photo_size(const Photo& photo, const PhotoImage& image, bool& scale
   const int w = photo.camera.spec().width, h = photo.camera.spec().height;
   scaled = false;
   if (image.width == w && image.height == h) return ok_status();
-  const long long cross = static_cast<long long>(image.width) * h - static_cast<long long>(image.height) * w;
+  const long long cross =
+      static_cast<long long>(image.width) * h - static_cast<long long>(image.height) * w;
   if (image.width > 0 && image.height > 0 && std::llabs(cross) < std::max(w, h)) {
     scaled = true;
     return ok_status();
   }
-  return make_error(ErrorCode::kParse, photo.path.string() + ": the photo of " + photo.name + " is " +
-                                           std::to_string(image.width) + " x " +
+  return make_error(ErrorCode::kParse, photo.path.string() + ": the photo of " + photo.name +
+                                           " is " + std::to_string(image.width) + " x " +
                                            std::to_string(image.height) + ", its camera " +
                                            std::to_string(w) + " x " + std::to_string(h) +
                                            " (neither that size nor that aspect)");
@@ -88,7 +89,8 @@ Expected<std::vector<double>> solve_gains(const std::vector<uint32_t>& start,
       }
     }
   }
-  const double lambda = 1e-4 * std::max(m.topLeftCorner(k, k).trace() / static_cast<double>(k), 1e-12);
+  const double lambda =
+      1e-4 * std::max(m.topLeftCorner(k, k).trace() / static_cast<double>(k), 1e-12);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
   for (Eigen::Index a = 0; a < k; ++a) {
     m(a, a) += lambda;
@@ -142,24 +144,25 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     if (Status s = check_photo_size(photo, *image, stats.scaled); !s) return s.error();
     stats.photo_width = image->width, stats.photo_height = image->height;
     if (stats.scaled) {
-      result.warnings.push_back(photo.name + ": the photo is " + std::to_string(image->width) + " x " +
-                                std::to_string(image->height) + ", its camera " +
-                                std::to_string(camera.spec().width) + " x " +
-                                std::to_string(camera.spec().height) +
-                                "; sampled at the camera's (u, v)");
+      result.warnings.push_back(
+          photo.name + ": the photo is " + std::to_string(image->width) + " x " +
+          std::to_string(image->height) + ", its camera " + std::to_string(camera.spec().width) +
+          " x " + std::to_string(camera.spec().height) + "; sampled at the camera's (u, v)");
     }
     // Photos are sRGB-encoded: linearise once, so bilinear interpolation and
     // the blend happen in linear light.
     parallel_for_chunks(image->pixels.size() / 4, 1 << 16, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
-        for (int ch = 0; ch < 3; ++ch) image->pixels[4 * i + ch] = srgb_to_linear(image->pixels[4 * i + ch]);
+        for (int ch = 0; ch < 3; ++ch)
+          image->pixels[4 * i + ch] = srgb_to_linear(image->pixels[4 * i + ch]);
       }
     });
     const ImageView view{image->width, image->height, image->pixels.data()};
     const Vec3 centre = camera.centre();
     const int w = camera.spec().width, h = camera.spec().height;
     const double focal2 = camera.mean_focal() * camera.mean_focal();
-    std::vector<std::size_t> in_view_chunk((n + kGrain - 1) / kGrain, 0), visible_chunk(in_view_chunk.size(), 0);
+    std::vector<std::size_t> in_view_chunk((n + kGrain - 1) / kGrain, 0),
+        visible_chunk(in_view_chunk.size(), 0);
     parallel_for_chunks(n, kGrain, [&](std::size_t begin, std::size_t end) {
       // Cull first, then trace only the candidates' segments.
       std::vector<uint32_t> candidates;
@@ -204,7 +207,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
         const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
         const double cosine = dot(nrm, normalize(centre - p)) / length(nrm);
-        const double q = cosine * focal2 / (proj.depth * proj.depth) * border_weight(proj.pixel, w, h);
+        const double q =
+            cosine * focal2 / (proj.depth * proj.depth) * border_weight(proj.pixel, w, h);
         const Rgba s = sample_bilinear(view, proj.uv, WrapMode::kClamp, WrapMode::kClamp);
         quality[v] = static_cast<float>(std::max(q, 1e-30));
         rgb[v] = {s[0], s[1], s[2]};
@@ -219,7 +223,9 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     auto& list = seen_by[c];
     list.reserve(stats.visible);
     for (std::size_t v = 0; v < n; ++v) {
-      if (quality[v] > 0) list.push_back({static_cast<uint32_t>(v), Sample{static_cast<uint32_t>(c), quality[v], rgb[v]}});
+      if (quality[v] > 0)
+        list.push_back(
+            {static_cast<uint32_t>(v), Sample{static_cast<uint32_t>(c), quality[v], rgb[v]}});
     }
   }
   quality = {};
@@ -291,7 +297,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
       for (uint32_t i = s0; i < s1; ++i) {
         const double wt = weight[i - s0];
         total += wt;
-        for (int ch = 0; ch < 3; ++ch) sum[ch] += wt * gains[samples[i].camera][ch] * samples[i].rgb[ch];
+        for (int ch = 0; ch < 3; ++ch)
+          sum[ch] += wt * gains[samples[i].camera][ch] * samples[i].rgb[ch];
       }
       for (uint32_t i = s0; i < s1; ++i) share[samples[i].camera] += weight[i - s0] / total;
       colors[v] = {static_cast<float>(sum[0] / total), static_cast<float>(sum[1] / total),
@@ -308,21 +315,25 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   }
   result.seconds_blend = seconds_since(start);
 
-  // Vertices no photo sees.
+  // Vertices no photo sees: the fill in linear light, or the occluded colour,
+  // which is given sRGB-encoded and written as given.
   start = Clock::now();
-  const Rgba occluded_linear = srgb_to_linear(options.occluded_color);
+  std::vector<uint32_t> constant;  // vertices that get occluded_color
   if (options.occluded == OccludedMode::kColor) {
     for (std::size_t v = 0; v < n; ++v) {
-      if (unknown[v]) colors[v] = occluded_linear;
+      if (unknown[v]) constant.push_back(static_cast<uint32_t>(v));
     }
   } else if (result.seen < n) {
-    Expected<FillResult> fill =
-        fill_harmonic(mesh, colors, unknown, [&](uint32_t) { return occluded_linear; });
+    Expected<FillResult> fill = fill_harmonic(mesh, colors, unknown, [&](uint32_t v) {
+      constant.push_back(v);  // a component no photo sees
+      return Rgba{0, 0, 0, 1};
+    });
     if (!fill) return fill.error();
     result.filled = fill->filled;
     result.unfilled = fill->unfilled;
   }
   for (Rgba& c : colors) c = linear_to_srgb(c);
+  for (uint32_t v : constant) colors[v] = options.occluded_color;
   result.colors = std::move(colors);
   result.seconds_fill = seconds_since(start);
   return result;

@@ -53,15 +53,16 @@ enum class ExposureMode { kGain, kNone };
 struct PhotoBakeOptions {
   PhotoBlend blend = PhotoBlend::kSoft;
   ExposureMode exposure = ExposureMode::kGain;  // ignored with a single photo
-  OccludedMode occluded = OccludedMode::kFill;  // for vertices no photo sees (kProject acts as kFill)
-  Rgba occluded_color{0, 0, 0, 1};              // sRGB-encoded, with OccludedMode::kColor
+  OccludedMode occluded =
+      OccludedMode::kFill;          // for vertices no photo sees (kProject acts as kFill)
+  Rgba occluded_color{0, 0, 0, 1};  // sRGB-encoded, with OccludedMode::kColor
 };
 
 struct PhotoCameraStats {
   std::string name;
-  std::size_t in_view = 0;   // vertices inside the photo, in front and facing the camera
-  std::size_t visible = 0;   // of those, the segment to the camera is free
-  double weight_share = 0;   // its share of all blend weights (sums to 1 over cameras)
+  std::size_t in_view = 0;              // vertices inside the photo, in front and facing the camera
+  std::size_t visible = 0;              // of those, the segment to the camera is free
+  double weight_share = 0;              // its share of all blend weights (sums to 1 over cameras)
   std::array<double, 3> gain{1, 1, 1};  // exposure gain per channel (linear light)
   int photo_width = 0, photo_height = 0;
   bool scaled = false;  // the photo has the camera's aspect at another size
