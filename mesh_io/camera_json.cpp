@@ -164,7 +164,7 @@ Expected<CameraPose> read_pose(const Reader& in, const json& p) {
   return as_parse(pose_from_look_at(*eye, *target, *up, what));
 }
 
-Expected<Camera> read_camera(const json& o, const std::string& where, bool with_image) {
+Expected<CameraProjector> read_camera(const json& o, const std::string& where, bool with_image) {
   const Reader in(where);
   if (!o.is_object()) return in.fail("a camera must be a JSON object");
   std::set<std::string> keys = {"kind", "model", "width", "height", "params", "pose"};
@@ -190,7 +190,8 @@ Expected<Camera> read_camera(const json& o, const std::string& where, bool with_
   if (!params) return params.error();
   Expected<CameraPose> pose = read_pose(in, o["pose"]);
   if (!pose) return pose.error();
-  Expected<Camera> camera = Camera::make({*model, *w, *h, std::move(params).value(), *pose});
+  Expected<CameraProjector> camera =
+      CameraProjector::make({*model, *w, *h, std::move(params).value(), *pose});
   if (!camera) return in.fail("key 'params': " + camera.error().message);
   return camera;
 }
@@ -207,7 +208,7 @@ Expected<std::string> read_text(const std::filesystem::path& path) {
 
 }  // namespace
 
-Expected<Camera> camera_from_json(std::string_view text, const std::string& source) {
+Expected<CameraProjector> camera_from_json(std::string_view text, const std::string& source) {
   Expected<json> root = parse_json_object(text, source);
   if (!root) return root.error();
   return read_camera(*root, source, false);
@@ -228,7 +229,7 @@ Expected<std::vector<CameraListEntry>> read_camera_list(const std::filesystem::p
   const json& list = (*root)["cameras"];
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string where = source + ": cameras[" + std::to_string(i) + "]";
-    Expected<Camera> camera = read_camera(list[i], where, true);
+    Expected<CameraProjector> camera = read_camera(list[i], where, true);
     if (!camera) return camera.error();
     if (!list[i].contains("image") || !list[i]["image"].is_string() ||
         list[i]["image"].get<std::string>().empty()) {

@@ -31,10 +31,11 @@
 
 namespace texbake {
 
-Expected<Camera> camera_from_json(std::string_view text, const std::string& source = "camera JSON");
+Expected<CameraProjector> camera_from_json(std::string_view text,
+                                           const std::string& source = "camera JSON");
 
 struct CameraListEntry {
-  Camera camera;
+  CameraProjector camera;
   std::string image;  // as written (relative to the list's folder unless absolute)
 };
 Expected<std::vector<CameraListEntry>> read_camera_list(const std::filesystem::path& path);

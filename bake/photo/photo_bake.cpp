@@ -136,7 +136,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   std::vector<std::array<float, 3>> rgb(n);
   for (std::size_t c = 0; c < photos.size(); ++c) {
     const Photo& photo = photos[c];
-    const Camera& camera = photo.camera;
+    const CameraProjector& camera = photo.camera;
     PhotoCameraStats& stats = result.cameras[c];
     stats.name = photo.name;
     Expected<PhotoImage> image = read(photo);

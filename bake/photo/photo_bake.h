@@ -43,7 +43,7 @@ namespace texbake {
 // One photograph and the camera that took it.
 struct Photo {
   std::string name;  // for messages and the report (COLMAP's image name)
-  Camera camera;
+  CameraProjector camera;
   std::filesystem::path path;  // the photo's file
 };
 

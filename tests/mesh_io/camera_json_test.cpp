@@ -33,7 +33,7 @@ TEST(CameraJson, EveryPoseFormReadsAsTheSameCamera) {
       R"({"q_wxyz":[0.7071067811865476,0.7071067811865476,0,0],"t":[0,0,5]})",
   };
   for (const std::string& pose : poses) {
-    Expected<Camera> c = camera_from_json(camera_with(pose));
+    Expected<CameraProjector> c = camera_from_json(camera_with(pose));
     ASSERT_TRUE(c) << pose << ": " << c.error().message;
     const CameraProjection p = c->project({1, 0, 0.5});
     EXPECT_NEAR(p.pixel.x, 840, 1e-9) << pose;
@@ -65,7 +65,7 @@ TEST(CameraJson, BadCamerasNameTheKey) {
       {R"({"kind":"camera","kind":"camera"})", "camera JSON: duplicate key 'kind'"},
   };
   for (const auto& [text, want] : cases) {
-    Expected<Camera> c = camera_from_json(text);
+    Expected<CameraProjector> c = camera_from_json(text);
     ASSERT_FALSE(c) << text;
     EXPECT_EQ(c.error().code, ErrorCode::kParse);
     EXPECT_EQ(c.error().message.rfind(want, 0), 0u)

@@ -28,10 +28,11 @@ Rgba truth(double x, double y) {
 
 // A pinhole camera at (cx, cy, height) looking straight down, image x along
 // +x and image y along -y (look-at with up +y).
-Camera down_camera(double height, double cx = 0, double cy = 0) {
+CameraProjector down_camera(double height, double cx = 0, double cy = 0) {
   Expected<CameraPose> pose = pose_from_look_at({cx, cy, height}, {cx, cy, 0}, {0, 1, 0}, "test");
   EXPECT_TRUE(pose);
-  Expected<Camera> c = Camera::make({CameraModel::kPinhole, kW, kH, {kF, kF, kCx, kCy}, *pose});
+  Expected<CameraProjector> c =
+      CameraProjector::make({CameraModel::kPinhole, kW, kH, {kF, kF, kCx, kCy}, *pose});
   EXPECT_TRUE(c);
   return std::move(c).value();
 }
@@ -84,7 +85,7 @@ struct Shots {
       return make_error(ErrorCode::kIo, p.name + ": no such photo");
     };
   }
-  void add(const std::string& name, Camera camera, PhotoImage image) {
+  void add(const std::string& name, CameraProjector camera, PhotoImage image) {
     photos.push_back({name, std::move(camera), name + ".png"});
     images.push_back(std::move(image));
   }
@@ -108,7 +109,7 @@ TEST(PhotoBake, OnePhotoGivesTheTruthExactly) {
 }
 
 TEST(PhotoBake, AnOccluderShadowsBySimilarTrianglesAndTheShadowIsFilled) {
-  // Camera at height 3, occluder [-0.31, 0.31]^2 at height 1: its shadow on
+  // CameraProjector at height 3, occluder [-0.31, 0.31]^2 at height 1: its shadow on
   // z = 0 is [-0.465, 0.465]^2 (scale 3 / 2), between grid lines 0.45 and 0.5.
   const MeshData mesh = scene(0.31);
   Shots shots;
@@ -201,7 +202,8 @@ TEST(PhotoBake, CamerasBehindTheSurfaceSeeNothing) {
   const MeshData mesh = scene();
   Expected<CameraPose> pose = pose_from_look_at({0, 0, -3}, {0, 0, 0}, {0, 1, 0}, "below");
   ASSERT_TRUE(pose);
-  Expected<Camera> cam = Camera::make({CameraModel::kPinhole, kW, kH, {kF, kF, kCx, kCy}, *pose});
+  Expected<CameraProjector> cam =
+      CameraProjector::make({CameraModel::kPinhole, kW, kH, {kF, kF, kCx, kCy}, *pose});
   ASSERT_TRUE(cam);
   Shots shots;
   shots.add("below", *cam, photo_of_plane(3, 1));
