@@ -231,7 +231,7 @@ Vec3 camera_forward(const CameraPose& pose) {
   return {pose.r[6], pose.r[7], pose.r[8]};
 }
 
-Expected<Camera> Camera::make(CameraSpec spec) {
+Expected<CameraProjector> CameraProjector::make(CameraSpec spec) {
   const ModelInfo& m = info(spec.model);
   if (static_cast<int>(spec.params.size()) != m.params) {
     return make_error(ErrorCode::kInvalidArgument,
@@ -246,7 +246,7 @@ Expected<Camera> Camera::make(CameraSpec spec) {
     return make_error(ErrorCode::kInvalidArgument,
                       "the camera's width and height must be at least 1");
   }
-  Camera c;
+  CameraProjector c;
   const std::vector<double>& p = spec.params;
   const int first_k = m.one_focal ? 3 : 4;
   c.fx_ = p[0];
@@ -309,7 +309,7 @@ Expected<Camera> Camera::make(CameraSpec spec) {
   return c;
 }
 
-Vec2 Camera::pixel_of_normalised(double a, double b) const {
+Vec2 CameraProjector::pixel_of_normalised(double a, double b) const {
   const auto& k = k_;
   const double r2 = a * a + b * b;
   double da = a, db = b;
@@ -353,7 +353,7 @@ Vec2 Camera::pixel_of_normalised(double a, double b) const {
   return {fx_ * da + cx_, fy_ * db + cy_};
 }
 
-CameraProjection Camera::project(Vec3 world) const {
+CameraProjection CameraProjector::project(Vec3 world) const {
   CameraProjection out;
   const Vec3 p = times(spec_.pose.r, world) + spec_.pose.t;
   out.depth = p.z;

@@ -98,11 +98,11 @@ struct CameraProjection {
   double depth = 0;     // z in camera axes
 };
 
-class Camera {
+class CameraProjector {
  public:
   // Errors (kInvalidValue): wrong parameter count, a non-positive or
   // non-finite focal length, a non-finite parameter, a size below 1 pixel.
-  static Expected<Camera> make(CameraSpec spec);
+  static Expected<CameraProjector> make(CameraSpec spec);
 
   const CameraSpec& spec() const { return spec_; }
   Vec3 centre() const { return centre_; }

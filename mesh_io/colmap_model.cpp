@@ -29,17 +29,18 @@ Error parse_error(const std::string& where, const std::string& what) {
   return make_error(ErrorCode::kParse, where + ": " + what);
 }
 
-// Turns a Camera::make or pose error into one naming the place.
+// Turns a CameraProjector::make or pose error into one naming the place.
 Error located(const std::string& where, const Error& e) {
   return parse_error(where, e.message);
 }
 
-Expected<Camera> make_photo_camera(const Intrinsics& in, const std::array<double, 4>& q, Vec3 t,
-                                   const std::string& where) {
+Expected<CameraProjector> make_photo_camera(const Intrinsics& in, const std::array<double, 4>& q,
+                                            Vec3 t, const std::string& where) {
   Expected<CameraPose> pose = pose_from_quaternion(q, t, CameraAxes::kOpenCV, where);
   // The pose's message already starts with `where`; the file is at fault.
   if (!pose) return make_error(ErrorCode::kParse, pose.error().message);
-  Expected<Camera> camera = Camera::make({in.model, in.width, in.height, in.params, *pose});
+  Expected<CameraProjector> camera =
+      CameraProjector::make({in.model, in.width, in.height, in.params, *pose});
   if (!camera) return located(where, camera.error());
   return camera;
 }
@@ -149,7 +150,7 @@ Expected<std::vector<ColmapImage>> read_images_text(const fs::path& path,
     if (!seen.emplace(static_cast<uint32_t>(id), images.size()).second) {
       return Status(parse_error(where, "image id " + std::to_string(id) + " appears twice"));
     }
-    Expected<Camera> camera = make_photo_camera(cam->second, q, {t[0], t[1], t[2]}, where);
+    Expected<CameraProjector> camera = make_photo_camera(cam->second, q, {t[0], t[1], t[2]}, where);
     if (!camera) return Status(camera.error());
     images.push_back({static_cast<uint32_t>(id), static_cast<uint32_t>(camera_id), name,
                       std::move(camera).value()});
@@ -300,7 +301,7 @@ Expected<std::vector<ColmapImage>> read_images_binary(
     if (!seen.emplace(id, images.size()).second) {
       return parse_error(where, "image id " + std::to_string(id) + " appears twice");
     }
-    Expected<Camera> camera = make_photo_camera(cam->second, q, {t[0], t[1], t[2]}, where);
+    Expected<CameraProjector> camera = make_photo_camera(cam->second, q, {t[0], t[1], t[2]}, where);
     if (!camera) return camera.error();
     images.push_back({id, camera_id, name, std::move(camera).value()});
   }

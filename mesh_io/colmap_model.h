@@ -27,8 +27,8 @@ namespace texbake {
 struct ColmapImage {
   uint32_t image_id = 0;
   uint32_t camera_id = 0;
-  std::string name;  // the photo's path relative to the images folder, as stored
-  Camera camera;     // intrinsics of camera_id with this image's pose
+  std::string name;        // the photo's path relative to the images folder, as stored
+  CameraProjector camera;  // intrinsics of camera_id with this image's pose
 };
 
 // The registered images of the model in `folder`, in file order. Errors name

@@ -12,6 +12,7 @@
 
 #include "mapping/proxy_schema.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/json_strict.h"
 #include "mesh_io/regular_file.h"
 
 namespace texbake {
@@ -110,22 +111,6 @@ class ObjectReader {
 // Parses `text`, noting the first duplicate key (seen by hand inside each
 // object before nlohmann overwrites it) and the last key read (so an error
 // inside its value, e.g. a number overflow, can name it).
-json parse_tracking_keys(std::string_view text, std::string* duplicate, std::string* last_key) {
-  std::vector<std::set<std::string>> keys_per_depth;
-  json::parser_callback_t callback = [&](int depth, json::parse_event_t event, json& parsed) {
-    const auto d = static_cast<std::size_t>(depth);
-    if (keys_per_depth.size() <= d + 1) keys_per_depth.resize(d + 2);
-    if (event == json::parse_event_t::object_start) {
-      keys_per_depth[d + 1].clear();
-    } else if (event == json::parse_event_t::key) {
-      *last_key = parsed.get<std::string>();
-      if (!keys_per_depth[d].insert(*last_key).second && duplicate->empty()) *duplicate = *last_key;
-    }
-    return true;
-  };
-  return json::parse(text.begin(), text.end(), callback);
-}
-
 // Every field of the kind's table, in its order; all are required but the
 // equator (mapping/proxy.h's default).
 Expected<ProxyParams> read_params(const ObjectReader& in, ProxyKind kind) {
@@ -167,27 +152,9 @@ json params_json(const ProxyParams& params) {
 }  // namespace
 
 Expected<ProxyParams> proxy_params_from_json(std::string_view text, const std::string& source) {
-  json root;
-  std::string duplicate, last_key;
-  try {
-    root = parse_tracking_keys(text, &duplicate, &last_key);
-  } catch (const json::out_of_range& e) {
-    // 406: a number beyond double's range (1e999), which would be infinity.
-    return make_error(
-        ErrorCode::kParse,
-        source + ": key '" + last_key + "' holds a number that is not finite (" + e.what() + ")");
-  } catch (const json::exception& e) {
-    // e.what() names the line and column: "[json.exception.parse_error.101]
-    // parse error at line 3, column 12: ..."
-    return make_error(ErrorCode::kParse, source + ": not valid JSON: " + e.what());
-  }
-  if (!duplicate.empty()) {
-    return make_error(ErrorCode::kParse, source + ": duplicate key '" + duplicate + "'");
-  }
-  if (!root.is_object()) {
-    return make_error(ErrorCode::kParse,
-                      source + ": expected a JSON object, not " + root.type_name());
-  }
+  Expected<json> parsed = parse_json_object(text, source);
+  if (!parsed) return parsed.error();
+  const json& root = *parsed;
   const ObjectReader in(root, source);
   const auto kind_it = root.find("kind");
   if (kind_it == root.end()) return in.fail("missing key 'kind'");

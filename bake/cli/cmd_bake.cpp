@@ -24,6 +24,7 @@
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
 #include "bake/cli/geometry_flags.h"
+#include "bake/cli/photo_target.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/proxy_for_mesh.h"
 #include "bake/cli/report.h"
@@ -61,6 +62,7 @@ struct BakeCliOptions {
   std::string report;
   int threads = 0;
   bool quiet = false;
+  PhotoFlags photos;                  // --cameras, --images, --blend, --exposure
   const CLI::App* command = nullptr;  // to ask which flags were given
 };
 
@@ -172,8 +174,56 @@ GeometryFlags proxy_geometry(const GeometryFlags& flags, const fs::path& output)
   return g;
 }
 
+// bake --cameras: the photo flags against the projection flags (exit 2),
+// then bake/cli/photo_target.h.
+int run_bake_photos(const BakeCliOptions& o) {
+  const std::vector<std::string> projection = given_flags(
+      *o.command, {"--texture", "--proxy", "--proxy-file", "--filter", "--samples", "--visibility",
+                   "--outside", "--wrap", "--linear", "--size", "--padding", "--uv", "--format"});
+  if (!projection.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        projection.front() +
+                            " does not apply to --cameras (the photos and their "
+                            "cameras are the projection)");
+  }
+  for (const std::string& flag : given_geometry_flags(o.geometry)) {
+    if (flag == "--up") continue;  // a .glb's node matrix
+    return report_error(ErrorCode::kInvalidArgument, flag + " does not apply to --cameras");
+  }
+  const std::string ext = lower_extension(o.output);
+  if (o.atlas.target == "atlas" || (ext != ".ply" && ext != ".obj" && ext != ".glb")) {
+    return report_error(ErrorCode::kUnsupported,
+                        "--cameras bakes the vertex target (.ply, .obj or .glb) only so far");
+  }
+  PhotoJob job;
+  job.mesh = o.mesh;
+  job.output = o.output;
+  job.report = o.report;
+  job.flags = o.photos;
+  if (o.occluded.keyword.empty()) {
+    job.occluded = OccludedMode::kColor;
+    job.occluded_color = o.occluded.color;
+  }
+  job.write.ascii = o.ascii;
+  job.write.up = up_direction(o.geometry);
+  job.threads = o.threads;
+  job.quiet = o.quiet;
+  return run_photo_bake(job);
+}
+
 int run_bake(const BakeCliOptions& o) {
   const auto start = Clock::now();
+  if (!o.photos.cameras.empty()) return run_bake_photos(o);
+  if (const std::vector<std::string> photo_only =
+          given_flags(*o.command, {"--images", "--blend", "--exposure"});
+      !photo_only.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        photo_only.front() + " applies to --cameras only");
+  }
+  if (o.texture.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--texture is required (or --cameras to bake from photographs)");
+  }
   const GeometryFlags geometry = proxy_geometry(o.geometry, o.output);
 
   // ---- Usage checks (exit 2), before touching any file. ----
@@ -360,8 +410,8 @@ RunFunction add_bake_command(CLI::App& app) {
       "Geometry flags not given are fitted to the mesh (as texbake fit) and printed.");
   o->command = cmd;
   cmd->add_option("mesh", o->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
-  cmd->add_option("--texture", o->texture, "image to bake (anything OpenImageIO reads)")
-      ->required();
+  cmd->add_option("--texture", o->texture,
+                  "image to bake (anything OpenImageIO reads); required unless --cameras");
   cmd->add_option("-o,--output", o->output,
                   "output: .ply (vertex colours), .obj (atlas: + .mtl + atlas image beside it; "
                   "vertex: v x y z r g b) or .glb (atlas embedded, or COLOR_0)")
@@ -397,6 +447,7 @@ RunFunction add_bake_command(CLI::App& app) {
       *cmd, "--wrap", o->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
       "plane proxy only: clamp (default) or repeat (tile)");
   cmd->add_flag("--linear", o->linear, "interpolate and average in linear light (sRGB image)");
+  add_photo_flags(*cmd, o->photos);
   cmd->add_option("--report", o->report, "write what was done as JSON to this file");
   cmd->add_option("--threads", o->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));

@@ -297,6 +297,26 @@ Ray Camera::ray(double x, double y) const {
   return {position, normalize(forward + right * sx + up * sy)};
 }
 
+CameraProjector pinhole_of_view(const Camera& view) {
+  const Vec3 down = -view.up;
+  const std::array<double, 9> r = {view.right.x,   view.right.y,   view.right.z,
+                                   down.x,         down.y,         down.z,
+                                   view.forward.x, view.forward.y, view.forward.z};
+  CameraPose pose;
+  pose.r = r;
+  pose.t = -Vec3{r[0] * view.position.x + r[1] * view.position.y + r[2] * view.position.z,
+                 r[3] * view.position.x + r[4] * view.position.y + r[5] * view.position.z,
+                 r[6] * view.position.x + r[7] * view.position.y + r[8] * view.position.z};
+  const double fx = view.width / (2 * view.tan_half_x), fy = view.height / (2 * view.tan_half_y);
+  // The frame is orthonormal by construction (make_camera): make() cannot fail.
+  return CameraProjector::make({CameraModel::kPinhole,
+                                view.width,
+                                view.height,
+                                {fx, fy, view.width / 2.0, view.height / 2.0},
+                                pose})
+      .value();
+}
+
 Expected<BoundingSphere> bounding_sphere(const MeshData& mesh) {
   if (mesh.triangles.empty()) {
     return make_error(ErrorCode::kInvalidArgument, "the mesh has no (non-degenerate) triangle");

@@ -52,6 +52,7 @@
 
 #include "bake/trace/embree_scene.h"
 #include "bake/util/progress.h"
+#include "mapping/camera.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/proxy.h"
@@ -152,6 +153,13 @@ struct Camera {
   // [i, i+1) x [j, j+1) (so its centre is at (i + 0.5, j + 0.5)).
   Ray ray(double x, double y) const;
 };
+
+// The view as a COLMAP PINHOLE camera (mapping/camera.h): the same pixel
+// convention (pixel (i, j) centred at (i + 0.5, j + 0.5)), fx = W / (2
+// tan_half_x), fy = H / (2 tan_half_y), principal point at the image centre,
+// the rows of R right, -up (OpenCV's y down), forward. A render of the view is
+// then a photo of that camera (tests/bake/photo, the Photographs demo).
+CameraProjector pinhole_of_view(const Camera& view);
 
 struct BoundingSphere {
   Vec3 center;

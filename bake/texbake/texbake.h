@@ -51,6 +51,7 @@
 
 #include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
 #include "bake/atlas/bake_atlas.h"
+#include "bake/photo/photo_bake.h"
 #include "bake/render/render_preview.h"
 #include "bake/shade/options.h"
 #include "bake/uv/uv_layout.h"
@@ -184,6 +185,36 @@ Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, Image&& image, c
 // --samples outside 1 .. kMaxVertexSamples (kArea only), a colour component
 // outside [0, 1].
 Status validate_options(const VertexBakeOptions& options);
+
+// ---- Photographs (SPEC section 9) -----------------------------------------
+
+// The cameras of `cameras` with their photos: a COLMAP sparse model folder
+// (cameras.txt + images.txt or the .bin pair, mesh_io/colmap_model.h) or a
+// JSON camera list (mesh_io/camera_json.h). Photos are looked up in
+// `images` when given; otherwise, for a COLMAP model, in the `images` folder
+// of the workspace whose `sparse/` holds the model (COLMAP's layout:
+// W/sparse/0 -> W/images), and for a JSON list beside the list. Only the
+// photos' existence is checked here; they are read one at a time by the
+// bake. Errors: kInput (the model or list, a missing photo, naming it and
+// the folder), kUsage (no images folder can be found: give one).
+Expected<std::vector<Photo>> read_cameras(const std::filesystem::path& cameras,
+                                          const std::filesystem::path& images = {});
+
+struct PhotoColors {
+  std::vector<Rgba> colors;               // one per vertex, sRGB-encoded RGBA in [0, 1]
+  std::vector<PhotoCameraStats> cameras;  // per photo: in view, visible, weight, gains
+  Stats stats;  // counts.vertices, samples (camera samples blended), filled, unfilled;
+                // timings.scene_build, bake (photos), fill (blend and fill), total
+};
+
+// Vertex colours from photos (the contract of bake/photo/photo_bake.h).
+// Errors: kInput (a photo unreadable or of the wrong size, a mesh with no
+// non-degenerate triangle), kUsage (no photos), kInternal. Progress stage:
+// "photos" (per photo).
+Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
+                                                     const std::vector<Photo>& photos,
+                                                     const PhotoBakeOptions& options = {},
+                                                     const RunOptions& run = {});
 
 // ---- Atlas ----------------------------------------------------------------
 

@@ -21,17 +21,17 @@ struct OpenCvCase {
 };
 #include "tests/mapping/camera_opencv_expected.inc"
 
-Camera make_camera(CameraModel model, std::vector<double> params, int w, int h,
-                   CameraPose pose = {}) {
-  Expected<Camera> c = Camera::make({model, w, h, std::move(params), pose});
+CameraProjector make_camera(CameraModel model, std::vector<double> params, int w, int h,
+                            CameraPose pose = {}) {
+  Expected<CameraProjector> c = CameraProjector::make({model, w, h, std::move(params), pose});
   EXPECT_TRUE(c) << c.error().message;
   return std::move(c).value();
 }
 
-TEST(Camera, PinholeByHand) {
+TEST(CameraProjector, PinholeByHand) {
   // Identity pose; (0.2, -0.1, 2) -> a = 0.1, b = -0.05 -> x = 1000 * 0.1 +
   // 640 = 740, y = 900 * -0.05 + 360 = 315; (u, v) = (740 / 1280, 1 - 315 / 720).
-  const Camera c = make_camera(CameraModel::kPinhole, {1000, 900, 640, 360}, 1280, 720);
+  const CameraProjector c = make_camera(CameraModel::kPinhole, {1000, 900, 640, 360}, 1280, 720);
   const CameraProjection p = c.project({0.2, -0.1, 2});
   EXPECT_TRUE(p.inside);
   EXPECT_DOUBLE_EQ(p.pixel.x, 740);
@@ -47,12 +47,12 @@ TEST(Camera, PinholeByHand) {
   EXPECT_NEAR(corner.pixel.y, 0.5, 1e-12);
   EXPECT_NEAR(corner.uv.u * 1280 - 0.5, 0, 1e-9);       // x = u W - 0.5 = 0
   EXPECT_NEAR((1 - corner.uv.v) * 720 - 0.5, 0, 1e-9);  // y = (1 - v) H - 0.5 = 0
-  const Camera s = make_camera(CameraModel::kSimplePinhole, {1000, 640, 360}, 1280, 720);
+  const CameraProjector s = make_camera(CameraModel::kSimplePinhole, {1000, 640, 360}, 1280, 720);
   EXPECT_DOUBLE_EQ(s.project({0.2, -0.1, 2}).pixel.y, 310);  // f = 1000 on both axes
 }
 
-TEST(Camera, OutsideBehindBeyondTheImageAndPastTheTurningPoint) {
-  const Camera c = make_camera(CameraModel::kPinhole, {1000, 1000, 640, 360}, 1280, 720);
+TEST(CameraProjector, OutsideBehindBeyondTheImageAndPastTheTurningPoint) {
+  const CameraProjector c = make_camera(CameraModel::kPinhole, {1000, 1000, 640, 360}, 1280, 720);
   EXPECT_FALSE(c.project({0, 0, -1}).inside);
   EXPECT_FALSE(c.project({0, 0, 0}).inside);
   EXPECT_FALSE(c.project({0.7, 0, 1}).inside);    // x = 1340 > 1280
@@ -61,25 +61,27 @@ TEST(Camera, OutsideBehindBeyondTheImageAndPastTheTurningPoint) {
   EXPECT_EQ(c.max_radius2(), INFINITY);
 
   // SIMPLE_RADIAL k = -0.5: r_d = r (1 - 0.5 r^2) turns where 1 - 1.5 r^2 = 0.
-  const Camera sr = make_camera(CameraModel::kSimpleRadial, {100, 5000, 5000, -0.5}, 10000, 10000);
+  const CameraProjector sr =
+      make_camera(CameraModel::kSimpleRadial, {100, 5000, 5000, -0.5}, 10000, 10000);
   EXPECT_NEAR(sr.max_radius2(), 1 / 1.5, 1e-9);
   EXPECT_TRUE(sr.project({0.8, 0, 1}).inside);    // r^2 = 0.64
   EXPECT_FALSE(sr.project({0.83, 0, 1}).inside);  // r^2 = 0.6889: folded back, though in the image
   // RADIAL k1 = -0.2, k2 = 0.01: 1 - 0.6 s + 0.05 s^2 = 0 at s = 2.
-  const Camera ra = make_camera(CameraModel::kRadial, {100, 5000, 5000, -0.2, 0.01}, 10000, 10000);
+  const CameraProjector ra =
+      make_camera(CameraModel::kRadial, {100, 5000, 5000, -0.2, 0.01}, 10000, 10000);
   EXPECT_NEAR(ra.max_radius2(), 2, 1e-9);
   // OPENCV_FISHEYE k1 = -0.3: 1 - 0.9 theta^2 = 0 at theta = sqrt(1 / 0.9).
-  const Camera fe =
+  const CameraProjector fe =
       make_camera(CameraModel::kOpenCVFisheye, {100, 100, 5000, 5000, -0.3, 0, 0, 0}, 10000, 10000);
   const double r_turn = std::tan(std::sqrt(1 / 0.9));
   EXPECT_NEAR(fe.max_radius2(), r_turn * r_turn, 1e-7);
   // FULL_OPENCV whose denominator never vanishes and numerator keeps growing: no turning point.
-  const Camera full = make_camera(CameraModel::kFullOpenCV,
-                                  {100, 100, 50, 50, 0.1, 0.01, 0, 0, 0.001, 0, 0, 0}, 100, 100);
+  const CameraProjector full = make_camera(
+      CameraModel::kFullOpenCV, {100, 100, 50, 50, 0.1, 0.01, 0, 0, 0.001, 0, 0, 0}, 100, 100);
   EXPECT_EQ(full.max_radius2(), INFINITY);
 }
 
-TEST(Camera, AgreesWithOpenCvToAMicroPixel) {
+TEST(CameraProjector, AgreesWithOpenCvToAMicroPixel) {
   Expected<CameraPose> pose = pose_from_quaternion(
       {kOpenCvQuaternion[0], kOpenCvQuaternion[1], kOpenCvQuaternion[2], kOpenCvQuaternion[3]},
       {kOpenCvTranslation[0], kOpenCvTranslation[1], kOpenCvTranslation[2]}, CameraAxes::kOpenCV,
@@ -89,7 +91,7 @@ TEST(Camera, AgreesWithOpenCvToAMicroPixel) {
   for (const OpenCvCase& k : kOpenCvCases) {
     const std::optional<CameraModel> model = camera_model_from_name(k.model);
     ASSERT_TRUE(model) << k.model;
-    const Camera c = make_camera(*model, k.params, kOpenCvWidth, kOpenCvHeight, *pose);
+    const CameraProjector c = make_camera(*model, k.params, kOpenCvWidth, kOpenCvHeight, *pose);
     ASSERT_GT(k.points.size(), 40u);
     for (const auto& p : k.points) {
       const CameraProjection got = c.project({p[0], p[1], p[2]});
@@ -100,14 +102,14 @@ TEST(Camera, AgreesWithOpenCvToAMicroPixel) {
 }
 
 // One camera placed by every pose form: the same pixels, to 1e-9.
-TEST(Camera, EveryPoseFormGivesTheSamePixels) {
+TEST(CameraProjector, EveryPoseFormGivesTheSamePixels) {
   // By hand: eye (0, -5, 0) looking at the origin with +z up: forward +y,
   // right = forward x up = +x, down = forward x right = -z. (1, 0, 0.5) is
   // then X = 1, Y = -0.5, Z = 5: a = 0.2, b = -0.1 -> (840, 260).
   Expected<CameraPose> look = pose_from_look_at({0, -5, 0}, {0, 0, 0}, {0, 0, 1}, "look");
   ASSERT_TRUE(look) << look.error().message;
   const std::vector<double> k = {1000, 1000, 640, 360};
-  const Camera by_look = make_camera(CameraModel::kPinhole, k, 1280, 720, *look);
+  const CameraProjector by_look = make_camera(CameraModel::kPinhole, k, 1280, 720, *look);
   EXPECT_NEAR(by_look.project({1, 0, 0.5}).pixel.x, 840, 1e-9);
   EXPECT_NEAR(by_look.project({1, 0, 0.5}).pixel.y, 260, 1e-9);
   EXPECT_NEAR(length(by_look.centre() - Vec3{0, -5, 0}), 0, 1e-12);
@@ -146,11 +148,11 @@ TEST(Camera, EveryPoseFormGivesTheSamePixels) {
   // A quaternion of the OpenGL rotation: q times the 180 degree turn about x.
   poses.push_back(
       pose_from_quaternion({-x, w, -z, y}, {t.x, -t.y, -t.z}, CameraAxes::kOpenGL, "q gl"));
-  const Camera reference = make_camera(CameraModel::kPinhole, k, 1280, 720, *poses[0]);
+  const CameraProjector reference = make_camera(CameraModel::kPinhole, k, 1280, 720, *poses[0]);
   const std::vector<Vec3> points = {{0, 0, 0}, {0.5, -0.2, 0.3}, {-1, 0.7, -0.4}, {0.2, 0.9, 1.1}};
   for (std::size_t i = 0; i < poses.size(); ++i) {
     ASSERT_TRUE(poses[i]) << i << ": " << poses[i].error().message;
-    const Camera c = make_camera(CameraModel::kPinhole, k, 1280, 720, *poses[i]);
+    const CameraProjector c = make_camera(CameraModel::kPinhole, k, 1280, 720, *poses[i]);
     EXPECT_NEAR(length(c.centre() - centre), 0, 1e-9) << "pose form " << i;
     for (const Vec3& p : points) {
       const CameraProjection want = reference.project(p), got = c.project(p);
@@ -162,7 +164,7 @@ TEST(Camera, EveryPoseFormGivesTheSamePixels) {
   }
 }
 
-TEST(Camera, BadPosesAndParametersAreErrors) {
+TEST(CameraProjector, BadPosesAndParametersAreErrors) {
   const std::array<double, 9> skew = {1, 0.01, 0, 0, 1, 0, 0, 0, 1};
   const std::array<double, 9> mirror = {-1, 0, 0, 0, 1, 0, 0, 0, 1};
   Expected<CameraPose> a =
@@ -180,15 +182,16 @@ TEST(Camera, BadPosesAndParametersAreErrors) {
   EXPECT_FALSE(pose_from_look_at({0, 0, 0}, {0, 0, 0}, {0, 0, 1}, "look"));
   EXPECT_FALSE(pose_from_rotation(skew, {0, INFINITY, 0}, CameraAxes::kOpenCV, "t"));
 
-  Expected<Camera> wrong_count = Camera::make({CameraModel::kOpenCV, 100, 100, {1, 1, 50, 50}, {}});
+  Expected<CameraProjector> wrong_count =
+      CameraProjector::make({CameraModel::kOpenCV, 100, 100, {1, 1, 50, 50}, {}});
   ASSERT_FALSE(wrong_count);
   EXPECT_EQ(wrong_count.error().message, "OPENCV takes 8 parameters, got 4");
-  EXPECT_FALSE(Camera::make({CameraModel::kPinhole, 100, 100, {0, 1, 50, 50}, {}}));
-  EXPECT_FALSE(Camera::make({CameraModel::kPinhole, 100, 100, {1, NAN, 50, 50}, {}}));
-  EXPECT_FALSE(Camera::make({CameraModel::kPinhole, 0, 100, {1, 1, 50, 50}, {}}));
+  EXPECT_FALSE(CameraProjector::make({CameraModel::kPinhole, 100, 100, {0, 1, 50, 50}, {}}));
+  EXPECT_FALSE(CameraProjector::make({CameraModel::kPinhole, 100, 100, {1, NAN, 50, 50}, {}}));
+  EXPECT_FALSE(CameraProjector::make({CameraModel::kPinhole, 0, 100, {1, 1, 50, 50}, {}}));
 }
 
-TEST(Camera, ModelNamesAndColmapIds) {
+TEST(CameraProjector, ModelNamesAndColmapIds) {
   // COLMAP src/colmap/sensor/models.h: the ids of cameras.bin.
   const std::vector<std::pair<std::string, int>> colmap = {
       {"SIMPLE_PINHOLE", 0}, {"PINHOLE", 1},        {"SIMPLE_RADIAL", 2}, {"RADIAL", 3},

@@ -33,7 +33,7 @@ class ColmapModel : public ::testing::Test {
 };
 
 const char* kCamerasTxt =
-    "# Camera list with one line of data per camera:\n"
+    "# CameraProjector list with one line of data per camera:\n"
     "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
     "# Number of cameras: 2\n"
     "1 PINHOLE 640 480 500 510 320 240\n"

@@ -1,0 +1,144 @@
+#include "bake/cli/photo_target.h"
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "bake/cli/choice_option.h"
+#include "bake/cli/commands.h"
+#include "bake/cli/file_checks.h"
+#include "bake/cli/progress_bar.h"
+#include "bake/util/timing.h"
+#include "mesh_io/atomic_file.h"
+
+namespace texbake::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The photo bake's --report: inputs, counts, timings and one entry per camera.
+std::string photo_report(const PhotoJob& job, const PhotoColors& baked, double load, double write,
+                         double total) {
+  nlohmann::ordered_json j;
+  j["command"] = "bake";
+  j["target"] = "vertex";
+  j["inputs"] = {{"mesh", job.mesh},
+                 {"cameras", job.flags.cameras},
+                 {"images", job.flags.images},
+                 {"output", job.output},
+                 {"options",
+                  {{"blend", job.flags.blend == PhotoBlend::kSoft   ? "soft"
+                             : job.flags.blend == PhotoBlend::kBest ? "best"
+                                                                    : "mean"},
+                   {"exposure", job.flags.exposure == ExposureMode::kNone ? "none" : "gain"},
+                   {"threads", job.threads}}}};
+  const Counts& c = baked.stats.counts;
+  j["counts"] = {{"vertices", c.vertices},      {"triangles", c.triangles},
+                 {"camera_samples", c.samples}, {"unseen", c.occluded},
+                 {"filled", c.filled},          {"unfilled", c.unfilled}};
+  nlohmann::ordered_json cams = nlohmann::ordered_json::array();
+  for (const PhotoCameraStats& s : baked.cameras) {
+    cams.push_back({{"image", s.name},
+                    {"photo", {s.photo_width, s.photo_height}},
+                    {"in_view", s.in_view},
+                    {"visible", s.visible},
+                    {"weight_share", s.weight_share},
+                    {"gain", {s.gain[0], s.gain[1], s.gain[2]}}});
+  }
+  j["cameras"] = cams;
+  const Timings& t = baked.stats.timings;
+  j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
+                  {"photos", t.bake}, {"fill", t.fill},
+                  {"write", write},   {"total", total}};
+  return j.dump(2) + "\n";
+}
+
+Status write_text(const fs::path& path, const std::string& text) {
+  return write_atomically(path, [&](const fs::path& temp) -> Status {
+    std::ofstream out(temp, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) return make_error(ErrorCode::kIo, "cannot write report " + path.string());
+    return ok_status();
+  });
+}
+
+}  // namespace
+
+void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
+  cmd.add_option("--cameras", flags.cameras,
+                 "bake from calibrated photos instead of --texture and a proxy: a COLMAP sparse "
+                 "model folder (cameras + images .txt or .bin) or a JSON camera list "
+                 "(vertex target)");
+  cmd.add_option("--images", flags.images,
+                 "--cameras: the photos' folder (default: a COLMAP workspace's images/ beside "
+                 "sparse/, or the JSON list's folder)");
+  add_choice_option(
+      cmd, "--blend", flags.blend,
+      {{"soft", PhotoBlend::kSoft}, {"best", PhotoBlend::kBest}, {"mean", PhotoBlend::kMean}},
+      "--cameras: soft (weights favouring the best views, default), best (one "
+      "photo per point) or mean");
+  add_choice_option<std::optional<ExposureMode>>(
+      cmd, "--exposure", flags.exposure,
+      {{"gain", ExposureMode::kGain}, {"none", ExposureMode::kNone}},
+      "--cameras: gain (one gain per photo and channel, least squares, default) or none");
+}
+
+int run_photo_bake(const PhotoJob& job) {
+  const auto start = Clock::now();
+  const fs::path output = job.output;
+  if (Status s = validate_write(output, job.write, /*atlas=*/false); !s)
+    return report_error(s.error());
+  {
+    const std::vector<NamedFile> read{{"MESH", job.mesh}, {"--cameras", job.flags.cameras}};
+    const std::vector<NamedFile> written{{"-o", output}, {"--report", job.report}};
+    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
+  }
+  for (const std::string& p : {job.output, job.report}) {
+    if (p.empty()) continue;
+    if (Status s = check_writable(p); !s) return report_error(s.error());
+  }
+  auto stage = Clock::now();
+  Expected<std::vector<Photo>> photos = read_cameras(job.flags.cameras, job.flags.images);
+  if (!photos) return report_error(photos.error());
+  Expected<LoadedMesh> mesh = read_mesh(job.mesh);
+  if (!mesh) return report_error(mesh.error());
+  const double load = seconds_since(stage);
+
+  PhotoBakeOptions options;
+  options.blend = job.flags.blend;
+  options.exposure = job.flags.exposure.value_or(ExposureMode::kGain);
+  options.occluded = job.occluded;
+  options.occluded_color = job.occluded_color;
+  ProgressBar bar(!job.quiet && ProgressBar::stderr_is_terminal());
+  RunOptions run;
+  run.threads = job.threads;
+  run.progress = bar.callback();
+  Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh->mesh, *photos, options, run);
+  if (!baked) return report_mesh_error(baked.error(), job.mesh);
+  for (const std::string& w : baked->stats.warnings) std::cerr << "texbake: warning: " << w << "\n";
+  stage = Clock::now();
+  if (Status s = write_vertex_colors(output, mesh->mesh, baked->colors, job.write); !s) {
+    return report_error(s.error());
+  }
+  const double write = seconds_since(stage);
+  const double total = seconds_since(start);
+  if (!job.report.empty()) {
+    if (Status s = write_text(job.report, photo_report(job, *baked, load, write, total)); !s) {
+      return report_error(s.error());
+    }
+  }
+  if (!job.quiet) {
+    const Counts& c = baked->stats.counts;
+    std::printf(
+        "baked %zu vertices from %zu photos (%zu unseen, %zu filled, %zu unfilled) in "
+        "%.2f s -> %s\n",
+        c.vertices, photos->size(), c.occluded, c.filled, c.unfilled, total, job.output.c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+}  // namespace texbake::cli

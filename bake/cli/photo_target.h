@@ -1,0 +1,38 @@
+// `texbake bake MESH --cameras PATH [--images DIR] [--blend soft|best|mean]
+// [--exposure gain|none] -o OUT` (SPEC section 9): vertex colours from
+// calibrated photographs, the vertex target's writers (.ply, .obj, .glb).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <optional>
+#include <string>
+
+#include "texbake/texbake.h"
+
+namespace texbake::cli {
+
+struct PhotoFlags {
+  std::string cameras;  // empty: not a photo bake
+  std::string images;
+  PhotoBlend blend = PhotoBlend::kSoft;
+  std::optional<ExposureMode> exposure;  // default: gain (a single photo has none)
+};
+
+// Adds --cameras, --images, --blend and --exposure to `bake`.
+void add_photo_flags(CLI::App& cmd, PhotoFlags& flags);
+
+struct PhotoJob {
+  std::string mesh, output, report;
+  PhotoFlags flags;
+  OccludedMode occluded = OccludedMode::kFill;
+  Rgba occluded_color{0, 0, 0, 1};
+  WriteOptions write;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// Checks (exit 2 for usage), reads the cameras and the mesh, bakes, writes
+// atomically, prints the summary line; returns the exit code.
+int run_photo_bake(const PhotoJob& job);
+
+}  // namespace texbake::cli

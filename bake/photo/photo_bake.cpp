@@ -1,0 +1,342 @@
+#include "bake/photo/photo_bake.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+
+#include "bake/trace/embree_scene.h"
+#include "bake/trace/visibility.h"
+#include "bake/util/parallel.h"
+#include "bake/vertex/occlusion_fill.h"
+#include "mapping/image_view.h"
+#include "mesh_io/image_io.h"
+#include "mesh_io/vertex_normals.h"
+
+namespace texbake {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+const double kMinCosine = std::cos(75.0 * std::numbers::pi / 180.0);  // theta > 75 deg: not seen
+constexpr double kBorderFraction = 0.05;  // border weight reaches 1 at 5 % of min(W, H)
+constexpr double kSoftTemperature = 0.1;  // --blend soft: exp(-(1 - q / q_max) / 0.1)
+constexpr std::size_t kGrain = 4096;      // vertices per parallel chunk
+
+// One camera's view of one vertex.
+struct Sample {
+  uint32_t camera = 0;
+  float quality = 0;
+  std::array<float, 3> rgb{};  // linear light, before the gain
+};
+
+Expected<PhotoImage> read_photo_file(const Photo& photo) {
+  Expected<Image> image = read_image(photo.path);
+  if (!image) return image.error();
+  return PhotoImage{image->width, image->height, std::move(image->pixels)};
+}
+
+// A photo of the camera's size, or of its aspect at another size (then
+// `scaled`); else an error naming both sizes.
+Status check_photo_size(const Photo& photo, const PhotoImage& image, bool& scaled) {
+  const int w = photo.camera.spec().width, h = photo.camera.spec().height;
+  scaled = false;
+  if (image.width == w && image.height == h) return ok_status();
+  const long long cross =
+      static_cast<long long>(image.width) * h - static_cast<long long>(image.height) * w;
+  if (image.width > 0 && image.height > 0 && std::llabs(cross) < std::max(w, h)) {
+    scaled = true;
+    return ok_status();
+  }
+  return make_error(ErrorCode::kParse, photo.path.string() + ": the photo of " + photo.name +
+                                           " is " + std::to_string(image.width) + " x " +
+                                           std::to_string(image.height) + ", its camera " +
+                                           std::to_string(w) + " x " + std::to_string(h) +
+                                           " (neither that size nor that aspect)");
+}
+
+// 0 at the photo's edge, 1 from kBorderFraction * min(W, H) inside on.
+double border_weight(Vec2 pixel, int w, int h) {
+  const double edge = std::min({pixel.x, w - pixel.x, pixel.y, h - pixel.y});
+  return std::clamp(edge / (kBorderFraction * std::min(w, h)), 0.0, 1.0);
+}
+
+// Exposure gains of one channel: minimise sum over vertices and pairs (a, b)
+// of photos seeing it of (g_a x_a - g_b x_b)^2 + lambda sum (g_k - 1)^2,
+// subject to mean(g) = 1 (without the constraint the data term would pull
+// every gain to 0). lambda is weak (1e-4 of the mean diagonal): it only
+// decides photos that share no vertex with another. Solved through the
+// KKT system, of the photo count's size.
+Expected<std::vector<double>> solve_gains(const std::vector<uint32_t>& start,
+                                          const std::vector<Sample>& samples, std::size_t cameras,
+                                          int channel) {
+  const auto k = static_cast<Eigen::Index>(cameras);
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k + 1, k + 1);
+  for (std::size_t v = 0; v + 1 < start.size(); ++v) {
+    for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
+      for (uint32_t j = i + 1; j < start[v + 1]; ++j) {
+        const double xa = samples[i].rgb[channel], xb = samples[j].rgb[channel];
+        const Eigen::Index a = samples[i].camera, b = samples[j].camera;
+        m(a, a) += xa * xa, m(b, b) += xb * xb;
+        m(a, b) -= xa * xb, m(b, a) -= xa * xb;
+      }
+    }
+  }
+  const double lambda =
+      1e-4 * std::max(m.topLeftCorner(k, k).trace() / static_cast<double>(k), 1e-12);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
+  for (Eigen::Index a = 0; a < k; ++a) {
+    m(a, a) += lambda;
+    rhs[a] = lambda;
+    m(a, k) = m(k, a) = 1;
+  }
+  rhs[k] = static_cast<double>(k);
+  const Eigen::VectorXd g = m.fullPivLu().solve(rhs);
+  std::vector<double> gains(cameras);
+  for (Eigen::Index a = 0; a < k; ++a) {
+    if (!(std::isfinite(g[a]) && g[a] > 0)) {
+      return make_error(ErrorCode::kInternal, "exposure gains: the least-squares solve failed");
+    }
+    gains[static_cast<std::size_t>(a)] = g[a];
+  }
+  return gains;
+}
+
+}  // namespace
+
+Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
+                                                  const std::vector<Photo>& photos,
+                                                  const PhotoBakeOptions& options,
+                                                  const PhotoReader& reader) {
+  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
+  const PhotoReader read = reader ? reader : PhotoReader(read_photo_file);
+  const std::size_t n = mesh.positions.size();
+  PhotoBakeResult result;
+  result.cameras.resize(photos.size());
+
+  auto start = Clock::now();
+  Expected<EmbreeScene> scene = EmbreeScene::build(mesh, BuildQuality::kLow);
+  if (!scene) return scene.error();
+  const double offset = visibility_offset(*scene);
+  const std::vector<Float3> normals = smooth_vertex_normals(mesh);
+  result.seconds_scene = seconds_since(start);
+
+  // Per camera, per vertex: quality (0 = not seen) and the linear colour;
+  // gathered afterwards into per-vertex lists in camera order.
+  start = Clock::now();
+  std::vector<std::vector<std::pair<uint32_t, Sample>>> seen_by(photos.size());
+  std::vector<float> quality(n);
+  std::vector<std::array<float, 3>> rgb(n);
+  for (std::size_t c = 0; c < photos.size(); ++c) {
+    const Photo& photo = photos[c];
+    const CameraProjector& camera = photo.camera;
+    PhotoCameraStats& stats = result.cameras[c];
+    stats.name = photo.name;
+    Expected<PhotoImage> image = read(photo);
+    if (!image) return image.error();
+    if (Status s = check_photo_size(photo, *image, stats.scaled); !s) return s.error();
+    stats.photo_width = image->width, stats.photo_height = image->height;
+    if (stats.scaled) {
+      result.warnings.push_back(
+          photo.name + ": the photo is " + std::to_string(image->width) + " x " +
+          std::to_string(image->height) + ", its camera " + std::to_string(camera.spec().width) +
+          " x " + std::to_string(camera.spec().height) + "; sampled at the camera's (u, v)");
+    }
+    // Photos are sRGB-encoded: linearise once, so bilinear interpolation and
+    // the blend happen in linear light.
+    parallel_for_chunks(image->pixels.size() / 4, 1 << 16, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        for (int ch = 0; ch < 3; ++ch)
+          image->pixels[4 * i + ch] = srgb_to_linear(image->pixels[4 * i + ch]);
+      }
+    });
+    const ImageView view{image->width, image->height, image->pixels.data()};
+    const Vec3 centre = camera.centre();
+    const int w = camera.spec().width, h = camera.spec().height;
+    const double focal2 = camera.mean_focal() * camera.mean_focal();
+    std::vector<std::size_t> in_view_chunk((n + kGrain - 1) / kGrain, 0),
+        visible_chunk(in_view_chunk.size(), 0);
+    parallel_for_chunks(n, kGrain, [&](std::size_t begin, std::size_t end) {
+      // Cull first, then trace only the candidates' segments.
+      std::vector<uint32_t> candidates;
+      std::vector<CameraProjection> projections;
+      RayArrays rays;
+      std::vector<float> tnear, tfar;
+      std::vector<uint8_t> occluded;
+      for (std::size_t v = begin; v < end; ++v) {
+        quality[v] = 0;
+        const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
+        const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
+        const CameraProjection proj = camera.project(p);
+        if (!proj.inside) continue;
+        const Vec3 to_camera = centre - p;
+        const double distance = length(to_camera);
+        if (!(distance > 0) || !(dot(nrm, to_camera) > kMinCosine * distance)) continue;
+        candidates.push_back(static_cast<uint32_t>(v));
+        projections.push_back(proj);
+      }
+      const std::size_t m = candidates.size();
+      rays.resize(m);
+      tnear.resize(m), tfar.resize(m), occluded.assign(m, 0);
+      for (std::size_t i = 0; i < m; ++i) {
+        const Float3 q = mesh.positions[candidates[i]];
+        const Vec3 p{q.x, q.y, q.z};
+        const Vec3 segment = centre - p;
+        const double relative = offset / length(segment);
+        rays.set(i, p, segment);
+        tnear[i] = static_cast<float>(relative);
+        tfar[i] = static_cast<float>(std::max(relative, 1 - relative));
+      }
+      RayBatch batch = rays.batch(m);
+      batch.tnear = tnear.data();
+      batch.tfar = tfar.data();
+      if (m > 0) scene->occluded(batch, occluded.data());
+      std::size_t visible = 0;
+      for (std::size_t i = 0; i < m; ++i) {
+        if (occluded[i]) continue;
+        ++visible;
+        const uint32_t v = candidates[i];
+        const CameraProjection& proj = projections[i];
+        const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
+        const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
+        const double cosine = dot(nrm, normalize(centre - p)) / length(nrm);
+        const double q =
+            cosine * focal2 / (proj.depth * proj.depth) * border_weight(proj.pixel, w, h);
+        const Rgba s = sample_bilinear(view, proj.uv, WrapMode::kClamp, WrapMode::kClamp);
+        quality[v] = static_cast<float>(std::max(q, 1e-30));
+        rgb[v] = {s[0], s[1], s[2]};
+      }
+      in_view_chunk[begin / kGrain] = m;
+      visible_chunk[begin / kGrain] = visible;
+    });
+    for (std::size_t k = 0; k < in_view_chunk.size(); ++k) {
+      stats.in_view += in_view_chunk[k];
+      stats.visible += visible_chunk[k];
+    }
+    auto& list = seen_by[c];
+    list.reserve(stats.visible);
+    for (std::size_t v = 0; v < n; ++v) {
+      if (quality[v] > 0)
+        list.push_back(
+            {static_cast<uint32_t>(v), Sample{static_cast<uint32_t>(c), quality[v], rgb[v]}});
+    }
+  }
+  quality = {};
+  rgb = {};
+  result.seconds_photos = seconds_since(start);
+
+  // Per-vertex lists of samples, cameras in order (a counting sort).
+  start = Clock::now();
+  std::vector<uint32_t> first(n + 1, 0);
+  for (const auto& list : seen_by) {
+    for (const auto& [v, s] : list) ++first[v + 1];
+  }
+  for (std::size_t v = 0; v < n; ++v) first[v + 1] += first[v];
+  std::vector<Sample> samples(first[n]);
+  {
+    std::vector<uint32_t> next(first.begin(), first.end() - 1);
+    for (auto& list : seen_by) {
+      for (const auto& [v, s] : list) samples[next[v]++] = s;
+      list = {};
+    }
+  }
+
+  // Exposure gains.
+  std::vector<std::array<double, 3>> gains(photos.size(), {1, 1, 1});
+  if (options.exposure == ExposureMode::kGain && photos.size() > 1) {
+    for (int ch = 0; ch < 3; ++ch) {
+      Expected<std::vector<double>> g = solve_gains(first, samples, photos.size(), ch);
+      if (!g) return g.error();
+      for (std::size_t c = 0; c < photos.size(); ++c) gains[c][ch] = (*g)[c];
+    }
+  }
+  for (std::size_t c = 0; c < photos.size(); ++c) result.cameras[c].gain = gains[c];
+
+  // Blend per vertex, in linear light.
+  std::vector<Rgba> colors(n, Rgba{0, 0, 0, 1});
+  std::vector<uint8_t> unknown(n, 0);
+  std::vector<std::vector<double>> share_chunk((n + kGrain - 1) / kGrain,
+                                               std::vector<double>(photos.size(), 0.0));
+  parallel_for_chunks(n, kGrain, [&](std::size_t begin, std::size_t end) {
+    std::vector<double>& share = share_chunk[begin / kGrain];
+    std::vector<double> weight;
+    for (std::size_t v = begin; v < end; ++v) {
+      const uint32_t s0 = first[v], s1 = first[v + 1];
+      if (s0 == s1) {
+        unknown[v] = 1;
+        continue;
+      }
+      double q_max = 0;
+      uint32_t best = s0;
+      for (uint32_t i = s0; i < s1; ++i) {
+        if (samples[i].quality > q_max) q_max = samples[i].quality, best = i;
+      }
+      weight.assign(s1 - s0, 0.0);
+      for (uint32_t i = s0; i < s1; ++i) {
+        switch (options.blend) {
+          case PhotoBlend::kSoft:
+            weight[i - s0] = std::exp(-(1 - samples[i].quality / q_max) / kSoftTemperature);
+            break;
+          case PhotoBlend::kBest:
+            weight[i - s0] = i == best ? 1 : 0;
+            break;
+          case PhotoBlend::kMean:
+            weight[i - s0] = 1;
+            break;
+        }
+      }
+      double total = 0;
+      std::array<double, 3> sum{0, 0, 0};
+      for (uint32_t i = s0; i < s1; ++i) {
+        const double wt = weight[i - s0];
+        total += wt;
+        for (int ch = 0; ch < 3; ++ch)
+          sum[ch] += wt * gains[samples[i].camera][ch] * samples[i].rgb[ch];
+      }
+      for (uint32_t i = s0; i < s1; ++i) share[samples[i].camera] += weight[i - s0] / total;
+      colors[v] = {static_cast<float>(sum[0] / total), static_cast<float>(sum[1] / total),
+                   static_cast<float>(sum[2] / total), 1};
+    }
+  });
+  result.seen = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 0));
+  std::vector<double> share(photos.size(), 0.0);
+  for (const auto& s : share_chunk) {
+    for (std::size_t c = 0; c < photos.size(); ++c) share[c] += s[c];
+  }
+  for (std::size_t c = 0; c < photos.size(); ++c) {
+    result.cameras[c].weight_share = result.seen ? share[c] / static_cast<double>(result.seen) : 0;
+  }
+  result.seconds_blend = seconds_since(start);
+
+  // Vertices no photo sees: the fill in linear light, or the occluded colour,
+  // which is given sRGB-encoded and written as given.
+  start = Clock::now();
+  std::vector<uint32_t> constant;  // vertices that get occluded_color
+  if (options.occluded == OccludedMode::kColor) {
+    for (std::size_t v = 0; v < n; ++v) {
+      if (unknown[v]) constant.push_back(static_cast<uint32_t>(v));
+    }
+  } else if (result.seen < n) {
+    Expected<FillResult> fill = fill_harmonic(mesh, colors, unknown, [&](uint32_t v) {
+      constant.push_back(v);  // a component no photo sees
+      return Rgba{0, 0, 0, 1};
+    });
+    if (!fill) return fill.error();
+    result.filled = fill->filled;
+    result.unfilled = fill->unfilled;
+  }
+  for (Rgba& c : colors) c = linear_to_srgb(c);
+  for (uint32_t v : constant) colors[v] = options.occluded_color;
+  result.colors = std::move(colors);
+  result.seconds_fill = seconds_since(start);
+  return result;
+}
+
+}  // namespace texbake

@@ -1,0 +1,99 @@
+// Colouring a mesh's vertices from several calibrated photographs (SPEC
+// section 9, `bake --cameras`): every vertex is carried through each
+// camera's lens model (mapping/camera.h, forward distortion; no photo is
+// undistorted or resampled), tested for visibility along the segment to the
+// camera's centre, and the photos that see it are blended per vertex in
+// linear light with exposure gains.
+//
+// Per camera, in order (photos are read one at a time, so memory holds one
+// photo plus the samples):
+//  1. cull: the vertex projects inside the photo, in front of the camera,
+//     with its smooth normal within 75 degrees of d = normalize(C - P)
+//     (back-facing and grazing points are not seen);
+//  2. visibility: the segment from P to C hits no triangle (Embree, tnear
+//     and tfar pulled in by the relative offset of bake/trace/visibility.h);
+//  3. sample: the photo's bilinear sample at the camera's (u, v), sRGB
+//     decoded to linear, and the quality q = cos(theta) (f / z)^2 border
+//     (f the mean focal length, z the depth, border rising from 0 at the
+//     photo's edge to 1 at 5 % of min(W, H) inside).
+// Then: exposure gains (ExposureMode::kGain: per photo and channel, least
+// squares over pairs of photos seeing the same vertex, g_a c_a = g_b c_b,
+// with the mean gain fixed at 1 and a weak prior towards 1 for photos that
+// share no vertex); the blend (soft: weights exp(-(1 - q / q_max) / 0.1),
+// best: the largest q, mean: equal); unseen vertices follow `occluded`
+// (the harmonic fill of bake/vertex/occlusion_fill.h by default). Results do
+// not depend on the thread count.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bake/shade/options.h"
+#include "mapping/camera.h"
+#include "mapping/error.h"
+#include "mapping/sample.h"
+#include "mesh_io/mesh_data.h"
+
+namespace texbake {
+
+// One photograph and the camera that took it.
+struct Photo {
+  std::string name;  // for messages and the report (COLMAP's image name)
+  CameraProjector camera;
+  std::filesystem::path path;  // the photo's file
+};
+
+enum class PhotoBlend { kSoft, kBest, kMean };
+enum class ExposureMode { kGain, kNone };
+
+struct PhotoBakeOptions {
+  PhotoBlend blend = PhotoBlend::kSoft;
+  ExposureMode exposure = ExposureMode::kGain;  // ignored with a single photo
+  OccludedMode occluded =
+      OccludedMode::kFill;          // for vertices no photo sees (kProject acts as kFill)
+  Rgba occluded_color{0, 0, 0, 1};  // sRGB-encoded, with OccludedMode::kColor
+};
+
+struct PhotoCameraStats {
+  std::string name;
+  std::size_t in_view = 0;              // vertices inside the photo, in front and facing the camera
+  std::size_t visible = 0;              // of those, the segment to the camera is free
+  double weight_share = 0;              // its share of all blend weights (sums to 1 over cameras)
+  std::array<double, 3> gain{1, 1, 1};  // exposure gain per channel (linear light)
+  int photo_width = 0, photo_height = 0;
+  bool scaled = false;  // the photo has the camera's aspect at another size
+};
+
+struct PhotoBakeResult {
+  std::vector<Rgba> colors;  // one per vertex, sRGB-encoded, alpha 1
+  std::vector<PhotoCameraStats> cameras;
+  std::size_t seen = 0;      // vertices seen by at least one photo
+  std::size_t filled = 0;    // unseen vertices coloured by the fill
+  std::size_t unfilled = 0;  // unseen vertices in components no photo sees
+  std::vector<std::string> warnings;
+  double seconds_scene = 0, seconds_photos = 0, seconds_blend = 0, seconds_fill = 0;
+};
+
+// Reads one photo: an RGBA float image, top row first, in the photo's stored
+// (sRGB) encoding. The default reads the file with mesh_io's read_image.
+struct PhotoImage {
+  int width = 0, height = 0;
+  std::vector<float> pixels;
+};
+using PhotoReader = std::function<Expected<PhotoImage>(const Photo& photo)>;
+
+// Errors: a photo that cannot be read (its reader's error), a photo whose
+// size is neither the camera's nor of the same aspect (kParse, naming the
+// photo and both sizes), no photos (kInvalidArgument), kInternal (Embree or
+// the fill). A photo of the same aspect and another size is used with the
+// camera's (u, v) (which do not depend on the resolution) and a warning.
+Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
+                                                  const std::vector<Photo>& photos,
+                                                  const PhotoBakeOptions& options,
+                                                  const PhotoReader& reader = {});
+
+}  // namespace texbake

@@ -1,0 +1,116 @@
+// read_cameras and bake_vertex_colors_from_photos: mesh_io's COLMAP and JSON
+// camera readers and bake/photo behind the API's conventions.
+#include <system_error>
+
+#include "bake/texbake/run.h"
+#include "bake/util/progress.h"
+#include "bake/util/timing.h"
+#include "mesh_io/camera_json.h"
+#include "mesh_io/colmap_model.h"
+#include "mesh_io/regular_file.h"
+#include "texbake/texbake.h"
+
+namespace texbake {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// COLMAP's workspace layout: W/sparse/<k>/ (or W/sparse/) holds the model,
+// W/images/ the photos. Empty when `model` is in no `sparse` folder.
+fs::path workspace_images(const fs::path& model) {
+  std::error_code ec;
+  fs::path p = fs::weakly_canonical(model, ec);
+  if (ec) p = model;
+  for (fs::path dir = p; dir.has_relative_path(); dir = dir.parent_path()) {
+    if (dir.filename() == "sparse") return dir.parent_path() / "images";
+    if (dir == dir.parent_path()) break;
+  }
+  return {};
+}
+
+}  // namespace
+
+Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::path& images) {
+  std::error_code ec;
+  std::vector<Photo> photos;
+  fs::path folder = images;
+  if (fs::is_directory(cameras, ec)) {
+    Expected<std::vector<ColmapImage>> model = read_colmap_model(cameras);
+    if (!model) return model.error();
+    if (folder.empty()) {
+      folder = workspace_images(cameras);
+      if (folder.empty()) {
+        return make_error(ErrorCode::kInvalidArgument,
+                          "--cameras " + cameras.string() +
+                              " is not inside a COLMAP workspace's sparse/ folder: give the "
+                              "photos' folder with --images");
+      }
+    }
+    for (ColmapImage& image : *model) {
+      photos.push_back({image.name, std::move(image.camera), folder / image.name});
+    }
+  } else {
+    Expected<std::vector<CameraListEntry>> list = read_camera_list(cameras);
+    if (!list) return list.error();
+    if (folder.empty()) folder = cameras.parent_path();
+    for (CameraListEntry& entry : *list) {
+      const fs::path path =
+          fs::path(entry.image).is_absolute() ? fs::path(entry.image) : folder / entry.image;
+      photos.push_back({entry.image, std::move(entry.camera), path});
+    }
+  }
+  for (const Photo& photo : photos) {
+    if (Status s = check_regular_file(photo.path, "a photo"); !s) {
+      return make_error(ErrorCode::kIo,
+                        "the photo of camera " + photo.name + ": " + s.error().message);
+    }
+  }
+  return photos;
+}
+
+Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
+                                                     const std::vector<Photo>& photos,
+                                                     const PhotoBakeOptions& options,
+                                                     const RunOptions& run) {
+  const auto start = Clock::now();
+  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
+  if (Status s = check_triangles(mesh); !s) return s.error();
+  Progress progress(run.progress);
+  return detail::run_call<PhotoColors>(run, [&]() -> Expected<PhotoColors> {
+    progress.start("photos", photos.size());
+    std::size_t done = 0;
+    const PhotoReader reader = [&](const Photo& photo) -> Expected<PhotoImage> {
+      if (done > 0) progress.advance(1);
+      ++done;
+      if (progress.cancelled()) return cancelled_error();
+      Expected<Image> image = read_image(photo.path);
+      if (!image) return image.error();
+      return PhotoImage{image->width, image->height, std::move(image->pixels)};
+    };
+    Expected<PhotoBakeResult> baked = bake_vertex_from_photos(mesh, photos, options, reader);
+    if (progress.cancelled()) return cancelled_error();
+    if (!baked) return detail::as_input(baked.error());
+    progress.finish();
+    if (progress.cancelled()) return cancelled_error();
+    PhotoColors out;
+    out.colors = std::move(baked->colors);
+    out.cameras = std::move(baked->cameras);
+    Counts& c = out.stats.counts;
+    c.vertices = mesh.positions.size();
+    c.triangles = mesh.triangles.size();
+    for (const PhotoCameraStats& cam : out.cameras) c.samples += cam.visible;
+    c.occluded = c.vertices - baked->seen;
+    c.filled = baked->filled;
+    c.unfilled = baked->unfilled;
+    out.stats.warnings = std::move(baked->warnings);
+    Timings& t = out.stats.timings;
+    t.scene_build = baked->seconds_scene;
+    t.bake = baked->seconds_photos;
+    t.fill = baked->seconds_blend + baked->seconds_fill;
+    t.total = seconds_since(start);
+    return out;
+  });
+}
+
+}  // namespace texbake

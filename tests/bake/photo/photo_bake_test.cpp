@@ -1,0 +1,265 @@
+// Colouring from photographs (bake/photo/photo_bake.h) on scenes whose
+// answer is known in closed form: a square seen straight down by pinhole
+// cameras whose photos were painted here from an affine function of the
+// world point behind each pixel (so bilinear interpolation in linear light
+// is exact), an occluder with a shadow computed by similar triangles,
+// photos scaled in exposure, cameras behind the surface, and the blend
+// weights of SPEC section 9 worked out by hand.
+#include "bake/photo/photo_bake.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "bake/util/parallel.h"
+#include "tests/bake/test_meshes.h"
+
+namespace texbake {
+namespace {
+
+constexpr int kW = 640, kH = 480;
+constexpr double kF = 400, kCx = 320, kCy = 240;
+
+// The truth, in linear light, at world (x, y) on the plane z = 0.
+Rgba truth(double x, double y) {
+  return {static_cast<float>(0.3 + 0.2 * x), static_cast<float>(0.5 - 0.1 * y),
+          static_cast<float>(0.4 + 0.05 * (x + y)), 1};
+}
+
+// A pinhole camera at (cx, cy, height) looking straight down, image x along
+// +x and image y along -y (look-at with up +y).
+CameraProjector down_camera(double height, double cx = 0, double cy = 0) {
+  Expected<CameraPose> pose = pose_from_look_at({cx, cy, height}, {cx, cy, 0}, {0, 1, 0}, "test");
+  EXPECT_TRUE(pose);
+  Expected<CameraProjector> c =
+      CameraProjector::make({CameraModel::kPinhole, kW, kH, {kF, kF, kCx, kCy}, *pose});
+  EXPECT_TRUE(c);
+  return std::move(c).value();
+}
+
+// The photo such a camera takes of the plane z = 0 painted with truth() times
+// `exposure` (in linear light), stored sRGB-encoded as floats.
+PhotoImage photo_of_plane(double height, double exposure, double cx = 0, double cy = 0, int w = kW,
+                          int h = kH) {
+  PhotoImage img{w, h, std::vector<float>(static_cast<std::size_t>(w) * h * 4)};
+  const double s = static_cast<double>(kW) / w;  // camera pixels per photo pixel
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const double a = ((i + 0.5) * s - kCx) / kF, b = ((j + 0.5) * s - kCy) / kF;
+      const Rgba c = truth(cx + a * height, cy - b * height);
+      float* px = &img.pixels[(static_cast<std::size_t>(j) * w + i) * 4];
+      for (int ch = 0; ch < 3; ++ch) px[ch] = linear_to_srgb(static_cast<float>(c[ch] * exposure));
+      px[3] = 1;
+    }
+  }
+  return img;
+}
+
+// The square [-1, 1]^2 at z = 0, 40 x 40 cells, normals +z; optionally an
+// occluding square [-r, r]^2 at z = 1 (normals +z).
+MeshData scene(double occluder = 0) {
+  MeshData mesh;
+  test::append_grid(mesh, 40, 40, [](double s, double t) {
+    return Float3{static_cast<float>(2 * s - 1), static_cast<float>(2 * t - 1), 0};
+  });
+  if (occluder > 0) {
+    test::append_grid(mesh, 2, 2, [&](double s, double t) {
+      return Float3{static_cast<float>(occluder * (2 * s - 1)),
+                    static_cast<float>(occluder * (2 * t - 1)), 1};
+    });
+  }
+  test::faces_from_triangles(mesh);
+  return mesh;
+}
+
+constexpr std::size_t kGridVertices = 41 * 41;
+
+struct Shots {
+  std::vector<Photo> photos;
+  std::vector<PhotoImage> images;
+  PhotoReader reader() const {
+    return [this](const Photo& p) -> Expected<PhotoImage> {
+      for (std::size_t i = 0; i < photos.size(); ++i) {
+        if (photos[i].name == p.name) return images[i];
+      }
+      return make_error(ErrorCode::kIo, p.name + ": no such photo");
+    };
+  }
+  void add(const std::string& name, CameraProjector camera, PhotoImage image) {
+    photos.push_back({name, std::move(camera), name + ".png"});
+    images.push_back(std::move(image));
+  }
+};
+
+TEST(PhotoBake, OnePhotoGivesTheTruthExactly) {
+  const MeshData mesh = scene();
+  Shots shots;
+  shots.add("top", down_camera(3), photo_of_plane(3, 1));
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, {}, shots.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->seen, kGridVertices);
+  EXPECT_EQ(r->cameras[0].in_view, kGridVertices);
+  EXPECT_EQ(r->cameras[0].visible, kGridVertices);
+  EXPECT_DOUBLE_EQ(r->cameras[0].weight_share, 1.0);
+  for (std::size_t v = 0; v < kGridVertices; ++v) {
+    const Rgba want = linear_to_srgb(truth(mesh.positions[v].x, mesh.positions[v].y));
+    for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(r->colors[v][ch], want[ch], 2e-5) << v;
+    EXPECT_EQ(r->colors[v][3], 1);
+  }
+}
+
+TEST(PhotoBake, AnOccluderShadowsBySimilarTrianglesAndTheShadowIsFilled) {
+  // CameraProjector at height 3, occluder [-0.31, 0.31]^2 at height 1: its shadow on
+  // z = 0 is [-0.465, 0.465]^2 (scale 3 / 2), between grid lines 0.45 and 0.5.
+  const MeshData mesh = scene(0.31);
+  Shots shots;
+  shots.add("top", down_camera(3), photo_of_plane(3, 1));
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, {}, shots.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  std::size_t shadowed = 0;
+  for (std::size_t v = 0; v < kGridVertices; ++v) {
+    shadowed += std::abs(mesh.positions[v].x) < 0.465 && std::abs(mesh.positions[v].y) < 0.465;
+  }
+  EXPECT_EQ(shadowed, 19u * 19u);
+  EXPECT_EQ(r->cameras[0].in_view, mesh.positions.size());
+  EXPECT_EQ(r->cameras[0].visible, mesh.positions.size() - shadowed);
+  EXPECT_EQ(r->seen, mesh.positions.size() - shadowed);
+  EXPECT_EQ(r->filled, shadowed);
+  // The truth is affine in x and y, so its harmonic extension over the
+  // shadow is the truth itself (in linear light), up to the grid's
+  // discrete Laplacian being exact on affine functions.
+  for (std::size_t v = 0; v < kGridVertices; ++v) {
+    const Rgba want = linear_to_srgb(truth(mesh.positions[v].x, mesh.positions[v].y));
+    for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(r->colors[v][ch], want[ch], 1e-4) << v;
+  }
+}
+
+TEST(PhotoBake, ExposureGainsRecoverTheInverseScales) {
+  const MeshData mesh = scene();
+  Shots shots;
+  const std::vector<double> exposure = {1.0, 0.8, 1.25};
+  shots.add("a", down_camera(3), photo_of_plane(3, exposure[0]));
+  shots.add("b", down_camera(3.5, 0.2, -0.1), photo_of_plane(3.5, exposure[1], 0.2, -0.1));
+  shots.add("c", down_camera(2.8, -0.15, 0.1), photo_of_plane(2.8, exposure[2], -0.15, 0.1));
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, {}, shots.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  // g_k exposure_k is the same for every photo (the common factor), and the
+  // mean gain is 1: g_k = 3 / (exposure_k * sum_j 1 / exposure_j).
+  double inverse_sum = 0;
+  for (double e : exposure) inverse_sum += 1 / e;
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (int ch = 0; ch < 3; ++ch) {
+      EXPECT_NEAR(r->cameras[k].gain[ch], 3 / (exposure[k] * inverse_sum), 1e-3) << k << " " << ch;
+    }
+  }
+  const double common = 3 / inverse_sum;  // every blended colour is truth * common
+  for (std::size_t v = 0; v < kGridVertices; ++v) {
+    const Rgba t = truth(mesh.positions[v].x, mesh.positions[v].y);
+    for (int ch = 0; ch < 3; ++ch) {
+      ASSERT_NEAR(srgb_to_linear(r->colors[v][ch]), t[ch] * common, 2e-4) << v;
+    }
+  }
+  // Without gains the same scene blends three different exposures.
+  PhotoBakeOptions none;
+  none.exposure = ExposureMode::kNone;
+  Expected<PhotoBakeResult> raw = bake_vertex_from_photos(mesh, shots.photos, none, shots.reader());
+  ASSERT_TRUE(raw);
+  EXPECT_EQ(raw->cameras[1].gain[0], 1);
+}
+
+TEST(PhotoBake, BlendWeightsByHand) {
+  // Constant photos: 0.2 (linear) from height 2, 0.6 from height 4, both
+  // straight above the centre vertex (cos theta = 1, border 1): q = f^2 / z^2,
+  // so q_far / q_near = 4 / 16 = 0.25 and the soft weight of the far photo
+  // is exp(-(1 - 0.25) / 0.1) = exp(-7.5).
+  const MeshData mesh = scene();
+  auto constant = [](float linear) {
+    PhotoImage img{kW, kH, std::vector<float>(kW * kH * 4, linear_to_srgb(linear))};
+    for (std::size_t i = 3; i < img.pixels.size(); i += 4) img.pixels[i] = 1;
+    return img;
+  };
+  Shots shots;
+  shots.add("near", down_camera(2), constant(0.2f));
+  shots.add("far", down_camera(4), constant(0.6f));
+  const std::size_t centre = 20 * 41 + 20;
+  ASSERT_EQ(mesh.positions[centre].x, 0);
+  auto centre_linear = [&](PhotoBlend blend) {
+    PhotoBakeOptions o;
+    o.blend = blend;
+    o.exposure = ExposureMode::kNone;
+    Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, o, shots.reader());
+    EXPECT_TRUE(r);
+    return srgb_to_linear(r->colors[centre][0]);
+  };
+  const double e = std::exp(-7.5);
+  EXPECT_NEAR(centre_linear(PhotoBlend::kSoft), (0.2 + 0.6 * e) / (1 + e), 1e-6);
+  EXPECT_NEAR(centre_linear(PhotoBlend::kBest), 0.2, 1e-6);
+  EXPECT_NEAR(centre_linear(PhotoBlend::kMean), 0.4, 1e-6);
+}
+
+TEST(PhotoBake, CamerasBehindTheSurfaceSeeNothing) {
+  // Looking up at the square from below: every normal faces away.
+  const MeshData mesh = scene();
+  Expected<CameraPose> pose = pose_from_look_at({0, 0, -3}, {0, 0, 0}, {0, 1, 0}, "below");
+  ASSERT_TRUE(pose);
+  Expected<CameraProjector> cam =
+      CameraProjector::make({CameraModel::kPinhole, kW, kH, {kF, kF, kCx, kCy}, *pose});
+  ASSERT_TRUE(cam);
+  Shots shots;
+  shots.add("below", *cam, photo_of_plane(3, 1));
+  PhotoBakeOptions o;
+  o.occluded_color = {1, 0, 1, 1};
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, o, shots.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->cameras[0].in_view, 0u);
+  EXPECT_EQ(r->seen, 0u);
+  EXPECT_EQ(r->unfilled, kGridVertices);
+  EXPECT_EQ(r->colors[0], (Rgba{1, 0, 1, 1}));
+}
+
+TEST(PhotoBake, PhotoSizes) {
+  const MeshData mesh = scene();
+  Shots half;
+  half.add("half", down_camera(3), photo_of_plane(3, 1, 0, 0, kW / 2, kH / 2));
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, half.photos, {}, half.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  ASSERT_EQ(r->warnings.size(), 1u);
+  EXPECT_NE(r->warnings[0].find("320 x 240"), std::string::npos) << r->warnings[0];
+  EXPECT_TRUE(r->cameras[0].scaled);
+  for (std::size_t v = 0; v < kGridVertices; ++v) {
+    const Rgba want = linear_to_srgb(truth(mesh.positions[v].x, mesh.positions[v].y));
+    ASSERT_NEAR(r->colors[v][0], want[0], 2e-5) << v;  // still exact: the truth is affine
+  }
+  Shots wrong;
+  wrong.add("wrong", down_camera(3), photo_of_plane(3, 1, 0, 0, 640, 640));
+  Expected<PhotoBakeResult> bad = bake_vertex_from_photos(mesh, wrong.photos, {}, wrong.reader());
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message,
+            "wrong.png: the photo of wrong is 640 x 640, its camera 640 x 480 (neither that size "
+            "nor that aspect)");
+  EXPECT_FALSE(bake_vertex_from_photos(mesh, {}, {}, wrong.reader()));
+}
+
+TEST(PhotoBake, IdenticalWithOneAndTwoThreads) {
+  const MeshData mesh = scene(0.31);
+  Shots shots;
+  shots.add("a", down_camera(3), photo_of_plane(3, 1));
+  shots.add("b", down_camera(3.5, 0.2, -0.1), photo_of_plane(3.5, 0.9, 0.2, -0.1));
+  std::vector<Rgba> one, two;
+  {
+    ThreadLimit limit(1);
+    Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, {}, shots.reader());
+    ASSERT_TRUE(r);
+    one = r->colors;
+  }
+  {
+    ThreadLimit limit(2);
+    Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, {}, shots.reader());
+    ASSERT_TRUE(r);
+    two = r->colors;
+  }
+  EXPECT_EQ(one, two);
+}
+
+}  // namespace
+}  // namespace texbake
