@@ -28,50 +28,19 @@ acos(z / |p|) / pi: the same v as texbake's sphere, and u 0.25 ahead, which
 the -90 degree turn takes back.
 """
 import math
+import os
 import sys
 import time
 
 import bpy
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import peers_util  # noqa: E402 (beside this script)
+
 
 def log(msg, t0=[time.time()]):
     print(f"blender_bake: {time.time() - t0[0]:7.2f} s {msg}", flush=True)
-
-
-def read_ply(path):
-    """Positions (n, 3) float32 and triangles (m, 3) int32 of the binary PLY
-    peers_util.py writes (float x y z; uchar 3 + int32 indices per face)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode("ascii").split()
-    nv = int(header[header.index("vertex") + 1])
-    nf = int(header[header.index("face") + 1])
-    v = np.frombuffer(data, dtype="<f4", count=3 * nv, offset=end).reshape(nv, 3)
-    faces = np.frombuffer(data, dtype=[("n", "u1"), ("i", "<i4", 3)], count=nf,
-                          offset=end + 12 * nv)
-    if (faces["n"] != 3).any():
-        sys.exit(f"{path}: not all faces are triangles")
-    return v, faces["i"]
-
-
-def write_ply(path, v, t, rgb):
-    """Binary PLY: float x y z, uchar red green blue; triangles."""
-    vert = np.empty(len(v), dtype=[("p", "<f4", 3), ("c", "u1", 3)])
-    vert["p"] = v
-    vert["c"] = rgb
-    faces = np.empty(len(t), dtype=[("n", "u1"), ("i", "<i4", 3)])
-    faces["n"] = 3
-    faces["i"] = t
-    with open(path, "wb") as f:
-        f.write((f"ply\nformat binary_little_endian 1.0\nelement vertex {len(v)}\n"
-                 "property float x\nproperty float y\nproperty float z\n"
-                 "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-                 f"element face {len(t)}\nproperty list uchar int vertex_indices\n"
-                 "end_header\n").encode())
-        f.write(vert.tobytes())
-        f.write(faces.tobytes())
 
 
 def linear_to_srgb(c):
@@ -146,7 +115,10 @@ def main(argv):
         obj = bpy.context.selected_objects[0]
         bpy.context.view_layer.objects.active = obj
     else:
-        v, t = read_ply(mesh_path)
+        vert, t = peers_util.read_ply(mesh_path)
+        if t is None:
+            sys.exit(f"{mesh_path}: not all faces are uchar-int triangles")
+        v = np.stack([vert["x"], vert["y"], vert["z"]], 1)
         obj = make_object(v, t)
     mat = make_material(obj, texture, center)
     scene = setup_cycles()
@@ -166,7 +138,7 @@ def main(argv):
             rgba = np.empty(4 * len(v), dtype=np.float32)
             attr.data.foreach_get("color", rgba)
             rgb = np.rint(linear_to_srgb(rgba.reshape(-1, 4)[:, :3]) * 255).astype(np.uint8)
-            write_ply(out, v, t, rgb)
+            peers_util.write_ply(out, v, t, rgb)
     elif mode == "atlas":
         size = int(argv[6]) if len(argv) > 6 else 2048
         # The square bake target is the active image node before the UV

@@ -63,23 +63,33 @@ def subdivide(v, t):
     return nv, nt
 
 
-def write_ply(path, v, t):
-    """Binary little-endian PLY: float x y z, uchar-count int vertex_indices."""
+def write_ply(path, v, t, rgb=None):
+    """Binary little-endian PLY: float x y z (+ uchar red green blue when
+    `rgb`, (n, 3) uint8, is given), uchar-count int vertex_indices."""
+    fields = [("p", "<f4", 3)] + ([("c", "u1", 3)] if rgb is not None else [])
+    vert = np.empty(len(v), dtype=fields)
+    vert["p"] = v
+    colour = ""
+    if rgb is not None:
+        vert["c"] = rgb
+        colour = "property uchar red\nproperty uchar green\nproperty uchar blue\n"
     faces = np.empty(len(t), dtype=[("n", "u1"), ("i", "<i4", 3)])
     faces["n"] = 3
     faces["i"] = t
     with open(path, "wb") as f:
         f.write((f"ply\nformat binary_little_endian 1.0\nelement vertex {len(v)}\n"
-                 "property float x\nproperty float y\nproperty float z\n"
+                 f"property float x\nproperty float y\nproperty float z\n{colour}"
                  f"element face {len(t)}\nproperty list uchar int vertex_indices\n"
                  "end_header\n").encode())
-        f.write(v.astype("<f4").tobytes())
+        f.write(vert.tobytes())
         f.write(faces.tobytes())
 
 
-def read_ply_vertices(path):
-    """The vertex element of a binary little-endian PLY as a structured array
-    (the vertex element must come first, as every writer here puts it)."""
+def read_ply(path):
+    """(vertices, faces) of a binary little-endian PLY: the vertex element as a
+    structured array, then the face element as an (m, 3) int32 array if every
+    face is a 'list uchar int' triangle, else None. The vertex element must
+    come first, as every writer here puts it."""
     try:
         with open(path, "rb") as f:
             data = f.read()
@@ -89,18 +99,34 @@ def read_ply_vertices(path):
     lines = data[:end].decode("ascii").splitlines()
     if "format binary_little_endian 1.0" not in lines:
         sys.exit(f"{path}: not a binary little-endian PLY")
-    count, fields, element = 0, [], None
+    count, faces, fields, face_fields, element = 0, 0, [], [], None
     for line in lines:
         words = line.split()
         if words[:1] == ["element"]:
             element = words[1]
             if element == "vertex":
                 count = int(words[2])
+            elif element == "face":
+                faces = int(words[2])
         elif words[:1] == ["property"] and element == "vertex":
             if words[1] == "list":
                 sys.exit(f"{path}: list property in the vertex element")
             fields.append((words[2], PLY_TYPES[words[1]]))
-    return np.frombuffer(data, dtype=np.dtype(fields), count=count, offset=end)
+        elif words[:1] == ["property"] and element == "face":
+            face_fields.append(words[1:])
+    vert = np.frombuffer(data, dtype=np.dtype(fields), count=count, offset=end)
+    tri = None
+    if face_fields == [["list", "uchar", "int", "vertex_indices"]]:
+        f = np.frombuffer(data, dtype=[("n", "u1"), ("i", "<i4", 3)], count=faces,
+                          offset=end + vert.nbytes)
+        if (f["n"] == 3).all():
+            tri = f["i"]
+    return vert, tri
+
+
+def read_ply_vertices(path):
+    """The vertex element of a binary little-endian PLY (read_ply)."""
+    return read_ply(path)[0]
 
 
 def read_ppm(path):
