@@ -7,7 +7,8 @@
 #                                    targets (all when none is given)
 # texbake_build_packages are what the library and the `texbake` executable
 # build with (the demo needs only these); texbake_test_packages are added for
-# the test suite, the benchmarks and the fuzzers.
+# the test suite, the benchmarks and the fuzzers (and the Python module, its
+# pytest tests and GNU parallel for the batch shards).
 set -euo pipefail
 
 TEXBAKE_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -22,6 +23,7 @@ texbake_build_packages=(
 texbake_test_packages=(
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev
+  pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-open3d parallel
 )
 
 texbake_install_packages() {
