@@ -453,6 +453,7 @@ PYBIND11_MODULE(_texbake, m) {
   m.doc() = "texbake's C++ bindings; use the package `texbake`.";
   static py::exception<ApiError> cancelled(m, "Cancelled", PyExc_Exception);
   g_cancelled = cancelled.ptr();
+  cancelled.attr("__doc__") = "Raised when a progress callback returned False.";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -463,7 +464,13 @@ PYBIND11_MODULE(_texbake, m) {
   m.def("version", &texbake::version);
 
   // ---- Mesh ----
-  py::class_<LoadedMesh>(m, "Mesh")
+  py::class_<LoadedMesh>(
+      m, "Mesh",
+      "A mesh: Mesh(vertices (n, 3), faces (m, k), uvs=None, face_uvs=None, "
+      "colors=None, normals=None, face_normals=None) or texbake.read_mesh(path). "
+      "Properties (numpy copies): vertices, faces (None for mixed polygons), "
+      "triangles, face_offsets, face_vertices, uvs, corner_uvs, normals, "
+      "corner_normals, colors, texture_path, issues.")
       .def(py::init([](py::handle vertices, py::handle faces, py::handle uvs, py::handle face_uvs,
                        py::handle colors, py::handle normals, py::handle face_normals) {
              LoadedMesh out;
@@ -654,7 +661,11 @@ PYBIND11_MODULE(_texbake, m) {
     return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats));
   });
 
-  py::class_<Atlas>(m, "Atlas")
+  py::class_<Atlas>(m, "Atlas",
+                    "An atlas bake (texbake.bake_atlas): image (N, N, 4) float32, mesh (with "
+                    "the per-corner UVs baked against), uvs, face_uvs, stats, uv_layout, "
+                    "repeat_u. Unpacks as image, uvs, face_uvs, stats; texbake.write_atlas "
+                    "writes it.")
       .def_property_readonly("image",
                              [](const Atlas& a) {
                                // A copy: the Atlas keeps its image for write_atlas.
