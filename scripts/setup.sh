@@ -23,7 +23,7 @@ texbake_build_packages=(
 texbake_test_packages=(
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev
-  pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-open3d parallel
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-open3d parallel
 )
 
 texbake_install_packages() {
