@@ -160,6 +160,30 @@ py::array_t<T> owned(std::vector<T>&& data, std::vector<py::ssize_t> shape) {
   return py::array_t<T>(shape, held->data(), free);
 }
 
+// A table of C floats per row (Float2, Float3, Rgba) as an (n, C) array of Out.
+template <class Out, class T>
+py::array_t<Out> table_array(const std::vector<T>& rows) {
+  constexpr std::size_t kCols = sizeof(T) / sizeof(float);
+  static_assert(sizeof(T) == kCols * sizeof(float));
+  const float* f = reinterpret_cast<const float*>(rows.data());
+  return owned(std::vector<Out>(f, f + rows.size() * kCols),
+               {static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(kCols)});
+}
+
+// Indices as int64: (n,) or, with cols > 0, (n / cols, cols).
+py::array_t<int64_t> index_array(const std::vector<uint32_t>& v, py::ssize_t cols = 0) {
+  const auto n = static_cast<py::ssize_t>(v.size());
+  std::vector<py::ssize_t> shape =
+      cols > 0 ? std::vector<py::ssize_t>{n / cols, cols} : std::vector<py::ssize_t>{n};
+  return owned(std::vector<int64_t>(v.begin(), v.end()), std::move(shape));
+}
+
+// make() when the attribute is present, else None.
+template <class Make>
+py::object present(bool is_present, Make&& make) {
+  return is_present ? py::object(make()) : py::object(py::none());
+}
+
 // Per-corner indices of equal-size polygons (m, k), checked against `limit`.
 void check_indices(const Array<int64_t>& a, const char* name, std::size_t limit) {
   const int64_t* p = a.data();
@@ -483,86 +507,55 @@ PYBIND11_MODULE(_texbake, m) {
            py::arg("face_uvs") = py::none(), py::arg("colors") = py::none(),
            py::arg("normals") = py::none(), py::arg("face_normals") = py::none())
       .def_property_readonly(
-          "vertices",
-          [](const LoadedMesh& l) {
-            std::vector<double> v;
-            v.reserve(l.mesh.positions.size() * 3);
-            for (const Float3& p : l.mesh.positions) v.insert(v.end(), {p.x, p.y, p.z});
-            return owned(std::move(v), {static_cast<py::ssize_t>(l.mesh.positions.size()), 3});
-          })
-      .def_property_readonly(
-          "faces",
-          [](const LoadedMesh& l) -> py::object {
-            const MeshData& d = l.mesh;
-            const std::size_t nf = d.face_count();
-            std::size_t k = nf ? d.face_offsets[1] - d.face_offsets[0] : 3;
-            for (std::size_t f = 0; f < nf; ++f) {
-              if (d.face_offsets[f + 1] - d.face_offsets[f] != k) k = 0;
-            }
-            if (k == 0) return py::none();
-            std::vector<int64_t> out(d.face_vertices.begin(), d.face_vertices.end());
-            return owned(std::move(out),
-                         {static_cast<py::ssize_t>(nf), static_cast<py::ssize_t>(k)});
-          })
-      .def_property_readonly(
-          "triangles",
-          [](const LoadedMesh& l) {
-            std::vector<int64_t> out;
-            for (const auto& t : l.mesh.triangles) out.insert(out.end(), t.begin(), t.end());
-            return owned(std::move(out), {static_cast<py::ssize_t>(l.mesh.triangles.size()), 3});
-          })
-      .def_property_readonly("face_offsets",
-                             [](const LoadedMesh& l) {
-                               return owned(std::vector<int64_t>(l.mesh.face_offsets.begin(),
-                                                                 l.mesh.face_offsets.end()),
-                                            {static_cast<py::ssize_t>(l.mesh.face_offsets.size())});
+          "vertices", [](const LoadedMesh& l) { return table_array<double>(l.mesh.positions); })
+      .def_property_readonly("faces",
+                             [](const LoadedMesh& l) -> py::object {
+                               const MeshData& d = l.mesh;
+                               const std::size_t nf = d.face_count();
+                               std::size_t k = nf ? d.face_offsets[1] - d.face_offsets[0] : 3;
+                               for (std::size_t f = 0; f < nf; ++f) {
+                                 if (d.face_offsets[f + 1] - d.face_offsets[f] != k) k = 0;
+                               }
+                               if (k == 0) return py::none();
+                               return index_array(d.face_vertices, static_cast<py::ssize_t>(k));
                              })
-      .def_property_readonly(
-          "face_vertices",
-          [](const LoadedMesh& l) {
-            return owned(
-                std::vector<int64_t>(l.mesh.face_vertices.begin(), l.mesh.face_vertices.end()),
-                {static_cast<py::ssize_t>(l.mesh.face_vertices.size())});
-          })
-      .def_property_readonly(
-          "uvs",
-          [](const LoadedMesh& l) -> py::object {
-            if (!l.mesh.has_uvs()) return py::none();
-            std::vector<double> v;
-            for (const Float2& p : l.mesh.uvs) v.insert(v.end(), {p.u, p.v});
-            return owned(std::move(v), {static_cast<py::ssize_t>(l.mesh.uvs.size()), 2});
-          })
-      .def_property_readonly(
-          "corner_uvs",
-          [](const LoadedMesh& l) -> py::object {
-            if (!l.mesh.has_uvs()) return py::none();
-            return owned(std::vector<int64_t>(l.mesh.corner_uv.begin(), l.mesh.corner_uv.end()),
-                         {static_cast<py::ssize_t>(l.mesh.corner_uv.size())});
-          })
-      .def_property_readonly(
-          "normals",
-          [](const LoadedMesh& l) -> py::object {
-            if (l.mesh.corner_normal.empty()) return py::none();
-            std::vector<double> v;
-            for (const Float3& p : l.mesh.normals) v.insert(v.end(), {p.x, p.y, p.z});
-            return owned(std::move(v), {static_cast<py::ssize_t>(l.mesh.normals.size()), 3});
-          })
-      .def_property_readonly(
-          "corner_normals",
-          [](const LoadedMesh& l) -> py::object {
-            if (l.mesh.corner_normal.empty()) return py::none();
-            return owned(
-                std::vector<int64_t>(l.mesh.corner_normal.begin(), l.mesh.corner_normal.end()),
-                {static_cast<py::ssize_t>(l.mesh.corner_normal.size())});
-          })
-      .def_property_readonly(
-          "colors",
-          [](const LoadedMesh& l) -> py::object {
-            if (!l.mesh.has_vertex_colors()) return py::none();
-            std::vector<float> v;
-            for (const Rgba& c : l.mesh.vertex_colors) v.insert(v.end(), c.begin(), c.end());
-            return owned(std::move(v), {static_cast<py::ssize_t>(l.mesh.vertex_colors.size()), 4});
-          })
+      .def_property_readonly("triangles",
+                             [](const LoadedMesh& l) {
+                               std::vector<uint32_t> t;
+                               for (const auto& tri : l.mesh.triangles)
+                                 t.insert(t.end(), tri.begin(), tri.end());
+                               return index_array(t, 3);
+                             })
+      .def_property_readonly("face_offsets",
+                             [](const LoadedMesh& l) { return index_array(l.mesh.face_offsets); })
+      .def_property_readonly("face_vertices",
+                             [](const LoadedMesh& l) { return index_array(l.mesh.face_vertices); })
+      .def_property_readonly("uvs",
+                             [](const LoadedMesh& l) {
+                               return present(l.mesh.has_uvs(),
+                                              [&] { return table_array<double>(l.mesh.uvs); });
+                             })
+      .def_property_readonly("corner_uvs",
+                             [](const LoadedMesh& l) {
+                               return present(l.mesh.has_uvs(),
+                                              [&] { return index_array(l.mesh.corner_uv); });
+                             })
+      .def_property_readonly("normals",
+                             [](const LoadedMesh& l) {
+                               return present(!l.mesh.corner_normal.empty(),
+                                              [&] { return table_array<double>(l.mesh.normals); });
+                             })
+      .def_property_readonly("corner_normals",
+                             [](const LoadedMesh& l) {
+                               return present(!l.mesh.corner_normal.empty(),
+                                              [&] { return index_array(l.mesh.corner_normal); });
+                             })
+      .def_property_readonly("colors",
+                             [](const LoadedMesh& l) {
+                               return present(l.mesh.has_vertex_colors(), [&] {
+                                 return table_array<float>(l.mesh.vertex_colors);
+                               });
+                             })
       .def_property_readonly("texture_path",
                              [](const LoadedMesh& l) -> py::object {
                                if (l.mesh.texture_path.empty()) return py::none();

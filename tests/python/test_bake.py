@@ -100,3 +100,27 @@ def test_render_and_compare(tmp_path, bunny, earth):
     grey, _ = texbake.render(bunny, size=(64, 48), up="y")
     diff = texbake.compare(grey, image)
     assert 0 < diff["max_difference"] <= 1
+
+
+def test_mesh_uvs_from_a_file_and_from_arrays(tmp_path, earth):
+    # suzanne_uv.obj: 1968 quads with a vt per corner.
+    suzanne = texbake.read_mesh(DATA / "suzanne_uv.obj")
+    assert suzanne.faces.shape == (1968, 4)
+    assert suzanne.corner_uvs.shape == (4 * 1968,) and suzanne.uvs.shape[1] == 2
+    cli = tmp_path / "cli.obj"
+    r = run_cli("bake", DATA / "suzanne_uv.obj", "--texture", DATA / "earth.jpg", "--proxy",
+                "sphere", "--center", "0,0,0", "--radius", "2", "--uv", "mesh", "--size", "128",
+                "-q", "-o", cli)
+    assert r.returncode == 0, r.stderr
+    proxy = texbake.Proxy.sphere(radius=2)
+    # The same mesh rebuilt from its arrays (quads, per-corner UVs) bakes the same atlas.
+    rebuilt = texbake.Mesh(suzanne.vertices, suzanne.faces, uvs=suzanne.uvs,
+                           face_uvs=suzanne.corner_uvs.reshape(-1, 4))
+    for mesh in (suzanne, rebuilt):
+        atlas = texbake.bake_atlas(mesh, earth, proxy, uv="mesh", size=128)
+        assert atlas.uv_layout["used"] == "mesh"
+        out = tmp_path / "py.obj"
+        texbake.write_atlas(out, atlas)
+        assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    with pytest.raises(ValueError, match="--uv mesh"):
+        texbake.bake_atlas(suzanne.vertices, suzanne.faces, earth, proxy, uv="mesh")

@@ -16,23 +16,16 @@ def cli_error(*args):
     return r.returncode, errors[0][len("texbake: error: "):]
 
 
-def test_missing_mesh_is_oserror_with_the_cli_message(tmp_path):
-    missing = tmp_path / "missing.off"
-    code, message = cli_error("bake", missing, "--texture", DATA / "earth.jpg", "--proxy",
-                              "sphere", "-o", tmp_path / "o.ply")
-    assert code == 1
+@pytest.mark.parametrize("missing_mesh", [True, False])
+def test_missing_file_is_oserror_with_the_cli_message(tmp_path, missing_mesh):
+    missing = tmp_path / ("missing.off" if missing_mesh else "missing.png")
+    mesh = missing if missing_mesh else DATA / "bunny00.off"
+    image = DATA / "earth.jpg" if missing_mesh else missing
+    code, message = cli_error("bake", mesh, "--texture", image, "--proxy", "sphere", "-o",
+                              tmp_path / "o.ply")
+    assert code == 1 and message == f"{missing}: no such file"
     with pytest.raises(OSError) as e:
-        texbake.read_mesh(missing)
-    assert str(e.value) == message
-
-
-def test_missing_image_is_oserror_with_the_cli_message(tmp_path):
-    missing = tmp_path / "missing.png"
-    code, message = cli_error("bake", DATA / "bunny00.off", "--texture", missing, "--proxy",
-                              "sphere", "-o", tmp_path / "o.ply")
-    assert code == 1
-    with pytest.raises(OSError) as e:
-        texbake.read_image(missing)
+        (texbake.read_mesh if missing_mesh else texbake.read_image)(missing)
     assert str(e.value) == message
 
 
