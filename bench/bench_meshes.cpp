@@ -1,12 +1,11 @@
 #include "bench/bench_meshes.h"
 
 #include <algorithm>
-#include <array>
 #include <cstdio>
 #include <cstdlib>
-#include <unordered_map>
 
 #include "mesh_io/read_mesh.h"
+#include "tests/bake/test_meshes.h"
 
 namespace texbake::bench {
 
@@ -22,32 +21,7 @@ MeshData load_shared_mesh(const std::string& file) {
 }
 
 MeshData subdivide(const MeshData& in) {
-  MeshData out;
-  out.positions = in.positions;
-  std::unordered_map<uint64_t, uint32_t> midpoints;
-  midpoints.reserve(in.triangles.size() * 2);
-  auto midpoint = [&](uint32_t a, uint32_t b) {
-    const uint64_t key = (uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-    auto [it, fresh] = midpoints.try_emplace(key, static_cast<uint32_t>(out.positions.size()));
-    if (fresh) {
-      const Float3 p = in.positions[a], q = in.positions[b];
-      out.positions.push_back({(p.x + q.x) / 2, (p.y + q.y) / 2, (p.z + q.z) / 2});
-    }
-    return it->second;
-  };
-  out.face_offsets.assign(1, 0);
-  out.face_vertices.reserve(in.triangles.size() * 12);
-  for (const auto& t : in.triangles) {
-    const uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
-    for (const std::array<uint32_t, 3>& f :
-         {std::array<uint32_t, 3>{t[0], ab, ca}, std::array<uint32_t, 3>{ab, t[1], bc},
-          std::array<uint32_t, 3>{ca, bc, t[2]}, std::array<uint32_t, 3>{ab, bc, ca}}) {
-      out.face_vertices.insert(out.face_vertices.end(), f.begin(), f.end());
-      out.face_offsets.push_back(static_cast<uint32_t>(out.face_vertices.size()));
-    }
-  }
-  triangulate_faces(out);
-  return out;
+  return test::subdivide(in);
 }
 
 const MeshData& bunny() {

@@ -24,7 +24,13 @@ texbake_test_packages=(
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-open3d parallel
+  nodejs
 )
+# Node.js runs the Khronos glTF-Validator of the tests (tests/gltf; the
+# suite's GltfValidator.Install fetches it with npm from the npm registry
+# into the build folder). Debian's npm only when no npm came with Node.js
+# (NodeSource's nodejs ships its own and conflicts with Debian's).
+if ! command -v npm >/dev/null 2>&1; then texbake_test_packages+=(npm); fi
 
 texbake_install_packages() {
   local missing=()

@@ -29,6 +29,7 @@
 #include "bake/cli/report.h"
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/file_name.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -156,11 +157,28 @@ Status check_wrap(const BakeCliOptions& o, std::optional<ProxyKind> kind) {
   return ok_status();
 }
 
+// The geometry flags that make the proxy. --up also orients a .glb (its
+// node matrix turns --up to glTF's +Y), so for a .glb output it is allowed
+// where it is no geometry flag: with --proxy-file (the file holds the whole
+// proxy) and with a kind without pole/axis/normal; there it is the GLB's
+// alone. Elsewhere (a .ply or .obj) it stays the error it was.
+GeometryFlags proxy_geometry(const GeometryFlags& flags, const fs::path& output) {
+  GeometryFlags g = flags;
+  if (lower_extension(output) != ".glb" || !g.up) return g;
+  if (g.proxy_file) g.up.reset();
+  if (g.kind) {
+    const std::vector<std::string> allowed = flags_of_kind(*g.kind);
+    if (std::find(allowed.begin(), allowed.end(), "--up") == allowed.end()) g.up.reset();
+  }
+  return g;
+}
+
 int run_bake(const BakeCliOptions& o) {
   const auto start = Clock::now();
+  const GeometryFlags geometry = proxy_geometry(o.geometry, o.output);
 
   // ---- Usage checks (exit 2), before touching any file. ----
-  if (Status s = check_geometry_flags(o.geometry, /*require_proxy=*/true); !s) {
+  if (Status s = check_geometry_flags(geometry, /*require_proxy=*/true); !s) {
     return report_error(s.error());
   }
   const fs::path output = o.output;
@@ -178,12 +196,13 @@ int run_bake(const BakeCliOptions& o) {
   }
   WriteOptions write_options = atlas_write_options(o.atlas);
   write_options.ascii = o.ascii;
+  write_options.up = up_direction(o.geometry);  // a .glb's node matrix
   if (!atlas) {
     if (Status s = validate_write(output, write_options, /*atlas=*/false); !s) {
       return report_error(s.error());
     }
   }
-  if (Status s = check_wrap(o, o.geometry.kind); !s) return report_error(s.error());
+  if (Status s = check_wrap(o, geometry.kind); !s) return report_error(s.error());
   const VertexBakeOptions shading = shading_options(o);
   AtlasOptions atlas_opts;
   if (atlas) {
@@ -197,8 +216,8 @@ int run_bake(const BakeCliOptions& o) {
   // bad value is reported before the long work. Otherwise the fit needs the
   // mesh.
   std::optional<FlagsProxy> resolved;
-  if (o.geometry.proxy_file || missing_geometry_flags(o.geometry, *o.geometry.kind).empty()) {
-    Expected<Proxy> proxy = proxy_from_flags(o.geometry);
+  if (geometry.proxy_file || missing_geometry_flags(geometry, *geometry.kind).empty()) {
+    Expected<Proxy> proxy = proxy_from_flags(geometry);
     if (!proxy) return report_error(proxy.error());
     resolved = FlagsProxy{std::move(*proxy), {}, {}};
     if (Status s = check_wrap(o, kind_of(params_of(resolved->proxy))); !s) {
@@ -218,7 +237,7 @@ int run_bake(const BakeCliOptions& o) {
     written.push_back({"--report", o.report});
     const std::vector<NamedFile> read{{"MESH", o.mesh},
                                       {"--texture", o.texture},
-                                      {"--proxy-file", o.geometry.proxy_file.value_or("")}};
+                                      {"--proxy-file", geometry.proxy_file.value_or("")}};
     if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
   }
 
@@ -256,7 +275,7 @@ int run_bake(const BakeCliOptions& o) {
   if (Status s = check_triangles(mesh->mesh); !s) return report_mesh_error(s.error(), o.mesh);
   if (!resolved) {
     Expected<FlagsProxy> fitted =
-        proxy_for_mesh(o.geometry, mesh->mesh, o.mesh, o.quiet ? nullptr : &std::cerr, run);
+        proxy_for_mesh(geometry, mesh->mesh, o.mesh, o.quiet ? nullptr : &std::cerr, run);
     if (!fitted) return report_error(fitted.error());
     resolved = std::move(*fitted);
     report.fit = resolved->stats.timings.fit;
@@ -351,6 +370,9 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
                   "vertex: v x y z r g b) or .glb (atlas embedded, or COLOR_0)")
       ->required();
   add_geometry_flags(*cmd, o->geometry);
+  cmd->get_option("--up")->description(
+      "the mesh's up axis: default pole/axis/normal, and for .glb output the axis the node "
+      "matrix turns to glTF's +Y (vertex data unchanged); x, y, z, -x, -y or -z (default z)");
 
   add_atlas_flags(*cmd, o->atlas);
   cmd->add_flag("--ascii", o->ascii, "vertex target, .ply: ASCII instead of binary little-endian");

@@ -11,6 +11,7 @@
 #include "bake/shade/shade.h"
 #include "bake/util/parallel.h"
 #include "mapping/sample.h"
+#include "mesh_io/vertex_normals.h"
 
 namespace texbake {
 namespace {
@@ -271,26 +272,6 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
   }
 }
 
-// Area-weighted vertex normals (unnormalised cross products summed), the
-// usual smooth-shading normal when the file has none.
-std::vector<Float3> compute_vertex_normals(const MeshData& mesh) {
-  std::vector<Vec3> acc(mesh.vertex_count());
-  for (const auto& tri : mesh.triangles) {
-    const Vec3 a = to_vec(mesh.positions[tri[0]]);
-    const Vec3 n = cross(to_vec(mesh.positions[tri[1]]) - a, to_vec(mesh.positions[tri[2]]) - a);
-    for (uint32_t v : tri) acc[v] += n;
-  }
-  std::vector<Float3> out(acc.size());
-  for (std::size_t v = 0; v < acc.size(); ++v) {
-    const double len = length(acc[v]);
-    if (len > 0) {
-      out[v] = {static_cast<float>(acc[v].x / len), static_cast<float>(acc[v].y / len),
-                static_cast<float>(acc[v].z / len)};
-    }
-  }
-  return out;
-}
-
 Status validate_options(const RenderOptions& o) {
   auto bad = [](std::string m) { return Status(make_error(ErrorCode::kInvalidArgument, m)); };
   if (o.width <= 0 || o.height <= 0) return bad("render size must be positive");
@@ -412,7 +393,7 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
 
   std::vector<Float3> vertex_normals;
   if (options.smooth_normals && mesh.corner_normal.empty()) {
-    vertex_normals = compute_vertex_normals(mesh);
+    vertex_normals = smooth_vertex_normals(mesh);  // mesh_io/vertex_normals.h
   }
   RenderContext ctx{&mesh,      &scene, &options, &vertex_normals, kShadowOffset * scene.diagonal(),
                     image.width};

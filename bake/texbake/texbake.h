@@ -255,10 +255,14 @@ enum class AtlasFormat { kPng8, kPng16, kExr };
 struct WriteOptions {
   bool ascii = false;                       // .ply only
   AtlasFormat format = AtlasFormat::kPng8;  // atlas image of a textured .obj
+  // .glb only: the mesh's up direction (non-zero), turned to glTF's +Y by
+  // the node matrix; the vertex data stay the mesh's (mesh_io/write_textured.h).
+  Vec3 up{0, 0, 1};
 };
 
 // A mesh with per-vertex colours, by extension: .ply (binary little-endian,
-// or ASCII), .obj (v x y z r g b), .glb (COLOR_0, linear). Errors: kUsage
+// or ASCII), .obj (v x y z r g b), .glb (COLOR_0, linear; NORMAL; Y-up node
+// matrix from options.up). Errors: kUsage
 // (unknown extension, ascii with non-PLY, not one colour per vertex),
 // kInput for I/O (naming the file).
 Status write_vertex_colors(const std::filesystem::path& path, const MeshData& mesh,

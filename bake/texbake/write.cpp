@@ -58,7 +58,8 @@ Status write_vertex_colors(const std::filesystem::path& path, const MeshData& me
                       "cannot write " + path.string() + ": " + std::to_string(colors.size()) +
                           " colours for " + std::to_string(mesh.vertex_count()) + " vertices");
   }
-  if (lower_extension(path) == ".glb") return write_vertex_color_glb(path, mesh, colors);
+  if (lower_extension(path) == ".glb")
+    return write_vertex_color_glb(path, mesh, colors, options.up);
   MeshWriteOptions wo;
   wo.ascii = options.ascii;
   wo.vertex_colors = colors;
@@ -71,6 +72,7 @@ Status write_atlas(const std::filesystem::path& path, const Atlas& atlas,
   TexturedWriteOptions wo;
   wo.bit_depth = bit_depth(options.format);
   wo.repeat_u = atlas.repeat_u;
+  wo.up = options.up;
   return write_textured_mesh(path, atlas.mesh, atlas.image.view(), wo);
 }
 

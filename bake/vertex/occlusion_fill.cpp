@@ -4,7 +4,11 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <numeric>
+#include <span>
 #include <utility>
+
+#include "bake/util/parallel.h"
+#include "bake/vertex/laplace_multigrid.h"
 
 namespace texbake {
 
@@ -34,6 +38,60 @@ class DisjointSets {
 };
 
 constexpr uint32_t kNotUnknown = 0xFFFFFFFFu;
+
+// The whole symmetric matrix of one component for the multigrid solver, in
+// compressed rows: `diagonal` on the diagonal and -1 per coupling (row, col)
+// at both (row, col) and (col, row), repeated couplings summed. Rows and
+// columns are local (row - first).
+using Coupling = std::pair<uint32_t, uint32_t>;
+LaplaceMatrix component_matrix(const Coupling* couplings_begin, const Coupling* couplings_end,
+                               const double* diagonal, uint32_t first, Eigen::Index size) {
+  const std::span<const Coupling> couplings(couplings_begin, couplings_end);
+  std::vector<int> start(static_cast<std::size_t>(size) + 1, 1);  // the diagonal
+  start[0] = 0;
+  for (const auto& [r, c] : couplings) ++start[r - first + 1], ++start[c - first + 1];
+  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<int> column(static_cast<std::size_t>(start.back()));
+  std::vector<double> value(column.size());
+  std::vector<int> next(start.begin(), start.end() - 1);
+  for (Eigen::Index i = 0; i < size; ++i) {
+    column[next[i]] = static_cast<int>(i), value[next[i]++] = diagonal[i];
+  }
+  for (const auto& [r, c] : couplings) {
+    const int lr = static_cast<int>(r - first), lc = static_cast<int>(c - first);
+    column[next[lr]] = lc, value[next[lr]++] = -1.0;
+    column[next[lc]] = lr, value[next[lc]++] = -1.0;
+  }
+  // Sort each row by column and sum repeats (an edge shared by two triangles).
+  std::vector<int> kept(static_cast<std::size_t>(size));
+  parallel_for_chunks(static_cast<std::size_t>(size), 4096,
+                      [&](std::size_t begin, std::size_t end) {
+                        std::vector<std::pair<int, double>> row;
+                        for (std::size_t i = begin; i < end; ++i) {
+                          row.clear();
+                          for (int k = start[i]; k < start[i + 1]; ++k)
+                            row.emplace_back(column[k], value[k]);
+                          std::sort(row.begin(), row.end(),
+                                    [](const auto& x, const auto& y) { return x.first < y.first; });
+                          int out = start[i];
+                          for (std::size_t k = 0; k < row.size(); ++k) {
+                            if (out > start[i] && column[out - 1] == row[k].first) {
+                              value[out - 1] += row[k].second;
+                            } else {
+                              column[out] = row[k].first, value[out++] = row[k].second;
+                            }
+                          }
+                          kept[i] = out - start[i];
+                        }
+                      });
+  LaplaceMatrix m(size, size);
+  m.reserve(Eigen::Map<const Eigen::VectorXi>(kept.data(), size));
+  for (Eigen::Index i = 0; i < size; ++i) {
+    for (int k = start[i]; k < start[i] + kept[i]; ++k) m.insert(i, column[k]) = value[k];
+  }
+  m.makeCompressed();
+  return m;
+}
 
 }  // namespace
 
@@ -117,12 +175,13 @@ FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
   return plan;
 }
 
-Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors, FillPlan plan) {
+Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors, FillPlan plan,
+                                const FillSolverOptions& solver) {
   const std::vector<uint32_t>& slot = plan.slot;
   const std::vector<uint32_t>& row = plan.row;
   const std::vector<uint32_t>& vertex_of = plan.vertex_of;
   const std::vector<uint32_t>& component_start = plan.component_start;
-  const FillResult result = plan.result;
+  FillResult result = plan.result;
   const std::size_t m = vertex_of.size();
   const std::size_t rows = result.filled;
   if (rows == 0) return result;
@@ -173,10 +232,27 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
   // the largest component, not of all. Only the lower triangle is stored
   // (SimplicialLDLT reads no more); AMD ordering (Eigen's default) keeps the
   // factor's fill-in small.
+  //
+  // A component of more than solver.direct_rows rows is solved iteratively
+  // instead (bake/vertex/laplace_multigrid.h): a direct factor's time and
+  // memory grow as n^1.5 or worse on a surface, the multigrid's linearly.
   std::vector<Eigen::Triplet<double>> triplets;
   for (std::size_t c = 0; c < components; ++c) {
     const uint32_t first = component_start[c];
     const auto size = static_cast<Eigen::Index>(component_start[c + 1] - first);
+    if (static_cast<std::size_t>(size) > solver.direct_rows) {
+      const LaplaceMatrix laplacian = component_matrix(grouped.data() + coupling_start[c],
+                                                       grouped.data() + coupling_start[c + 1],
+                                                       diagonal.data() + first, first, size);
+      const ColorColumns b = rhs.middleRows(first, size);
+      ColorColumns x;
+      Expected<MultigridStats> solved =
+          solve_laplace_multigrid(laplacian, b, x, solver.relative_tolerance);
+      if (!solved) return solved.error();
+      result.iterations = std::max(result.iterations, solved->iterations);
+      rhs.middleRows(first, size) = x;
+      continue;
+    }
     triplets.clear();
     for (uint32_t k = coupling_start[c]; k < coupling_start[c + 1]; ++k) {
       triplets.emplace_back(grouped[k].first - first, grouped[k].second - first, -1.0);
@@ -184,12 +260,12 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
     for (Eigen::Index r = 0; r < size; ++r) triplets.emplace_back(r, r, diagonal[first + r]);
     Eigen::SparseMatrix<double> laplacian(size, size);
     laplacian.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver(laplacian);
-    if (solver.info() != Eigen::Success) {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> direct(laplacian);
+    if (direct.info() != Eigen::Success) {
       return make_error(ErrorCode::kInternal, "occlusion fill: factorising the Laplacian failed");
     }
-    rhs.middleRows(first, size) = solver.solve(rhs.middleRows(first, size)).eval();
-    if (solver.info() != Eigen::Success) {
+    rhs.middleRows(first, size) = direct.solve(rhs.middleRows(first, size)).eval();
+    if (direct.info() != Eigen::Success) {
       return make_error(ErrorCode::kInternal, "occlusion fill: solving the Laplace system failed");
     }
   }
@@ -203,8 +279,9 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
 
 Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colors,
                                    const std::vector<uint8_t>& unknown,
-                                   const std::function<Rgba(uint32_t vertex)>& fallback) {
-  return solve_fill(mesh, colors, plan_fill(mesh, colors, unknown, fallback));
+                                   const std::function<Rgba(uint32_t vertex)>& fallback,
+                                   const FillSolverOptions& solver) {
+  return solve_fill(mesh, colors, plan_fill(mesh, colors, unknown, fallback), solver);
 }
 
 }  // namespace texbake

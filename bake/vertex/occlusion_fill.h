@@ -10,8 +10,12 @@
 // and largest known value bordering its region, so nothing is black unless
 // its neighbours are. (Cotangent weights go negative on obtuse triangles and
 // lose that guarantee; harmonic colours need no metric accuracy.) The sparse
-// symmetric positive definite system is solved with Eigen's SimplicialLDLT,
-// one factorisation for the four channels.
+// symmetric positive definite system is solved per connected component: a
+// small one with Eigen's SimplicialLDLT (one factorisation for the four
+// channels), a large one by multigrid-preconditioned conjugate gradients
+// (bake/vertex/laplace_multigrid.h) to a relative residual of 1e-6, whose
+// cost grows linearly with its size; the two agree far below one 8-bit level
+// (tests/bake/vertex/occlusion_fill_test.cpp).
 //
 // A connected component of unknown vertices that touches no known vertex
 // (e.g. a separate part entirely in shadow, or a vertex in no triangle) has no
@@ -30,9 +34,17 @@
 
 namespace texbake {
 
+// Which solver a component gets: the direct one up to direct_rows unknowns,
+// the multigrid one beyond, to the residual relative_tolerance * |b|.
+struct FillSolverOptions {
+  std::size_t direct_rows = 20000;
+  double relative_tolerance = 1e-6;
+};
+
 struct FillResult {
   std::size_t filled = 0;    // unknown vertices given a harmonic colour
   std::size_t unfilled = 0;  // unknown vertices in components with no known vertex
+  int iterations = 0;        // most CG iterations of a multigrid-solved component (0: none)
 };
 
 // The fill in two steps, so a caller can free what only the fallback needs
@@ -50,7 +62,8 @@ FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
                    const std::vector<uint8_t>& unknown,
                    const std::function<Rgba(uint32_t vertex)>& fallback);
 // colors must hold the known vertices' colours (as given to plan_fill).
-Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors, FillPlan plan);
+Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors, FillPlan plan,
+                                const FillSolverOptions& solver = {});
 
 // colors: one per vertex of mesh (read for known vertices, written for unknown
 // ones). unknown: one flag per vertex (1 = to fill). The graph is
@@ -58,6 +71,7 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
 // every solved component is anchored, so the matrix is positive definite).
 Expected<FillResult> fill_harmonic(const MeshData& mesh, std::vector<Rgba>& colors,
                                    const std::vector<uint8_t>& unknown,
-                                   const std::function<Rgba(uint32_t vertex)>& fallback);
+                                   const std::function<Rgba(uint32_t vertex)>& fallback,
+                                   const FillSolverOptions& solver = {});
 
 }  // namespace texbake

@@ -1,11 +1,13 @@
 // Small meshes built in code for the bake tests (no files, no readers).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <numbers>
+#include <unordered_map>
 #include <vector>
 
 #include "mesh_io/mesh_data.h"
@@ -45,6 +47,34 @@ inline uint32_t append_grid(MeshData& mesh, int nx, int ny,
     }
   }
   return first;
+}
+
+// One round of 1-to-4 midpoint subdivision of mesh.triangles (positions only;
+// every edge's midpoint is shared by its two triangles), one face per triangle.
+inline MeshData subdivide(const MeshData& in) {
+  MeshData out;
+  out.positions = in.positions;
+  std::unordered_map<uint64_t, uint32_t> midpoints;
+  midpoints.reserve(in.triangles.size() * 2);
+  auto midpoint = [&](uint32_t a, uint32_t b) {
+    const uint64_t key = (uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+    auto [it, fresh] = midpoints.try_emplace(key, static_cast<uint32_t>(out.positions.size()));
+    if (fresh) {
+      const Float3 p = in.positions[a], q = in.positions[b];
+      out.positions.push_back({(p.x + q.x) / 2, (p.y + q.y) / 2, (p.z + q.z) / 2});
+    }
+    return it->second;
+  };
+  out.triangles.reserve(in.triangles.size() * 4);
+  for (const auto& t : in.triangles) {
+    const uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+    out.triangles.push_back({t[0], ab, ca});
+    out.triangles.push_back({ab, t[1], bc});
+    out.triangles.push_back({ca, bc, t[2]});
+    out.triangles.push_back({ab, bc, ca});
+  }
+  faces_from_triangles(out);
+  return out;
 }
 
 // Appends an axis-aligned box [lo, hi] as 8 vertices and 12 outward triangles.

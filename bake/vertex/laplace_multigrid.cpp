@@ -1,0 +1,419 @@
+#include "bake/vertex/laplace_multigrid.h"
+
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bake/util/parallel.h"
+
+namespace texbake {
+
+namespace {
+
+using Index = Eigen::Index;
+using CoarseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using Columns4 = std::array<double, 4>;
+
+constexpr Index kCoarsestRows = 1500;  // solved by a direct factorisation at or below
+constexpr int kMaxLevels = 30;
+constexpr double kStrength = 0.08;  // strong: |a_ij| >= kStrength * sqrt(a_ii a_jj)
+constexpr Index kBlockRows = 4096;  // rows per parallel block (fixed: sums stay deterministic)
+constexpr int kSweeps = 1;          // damped Jacobi sweeps before and after the coarse correction
+
+struct Level {
+  LaplaceMatrix a;
+  Eigen::VectorXd jacobi;  // omega / a_ii: the damped Jacobi weights
+  LaplaceMatrix p;         // prolongation from the next coarser level (rows: this level)
+  LaplaceMatrix r;         // restriction to it, p^T
+  ColorColumns x, b, t;    // the V-cycle's vectors on this level
+};
+
+Index block_count(Index rows) {
+  return (rows + kBlockRows - 1) / kBlockRows;
+}
+
+// Calls fn(begin, end) on the fixed row blocks of [0, rows), in parallel.
+template <class Fn>
+void for_row_blocks(Index rows, Fn&& fn) {
+  parallel_for_chunks(static_cast<std::size_t>(block_count(rows)), 1,
+                      [&](std::size_t first, std::size_t last) {
+                        for (std::size_t blk = first; blk < last; ++blk) {
+                          const Index begin = static_cast<Index>(blk) * kBlockRows;
+                          fn(begin, std::min(rows, begin + kBlockRows));
+                        }
+                      });
+}
+
+// The four sums of m's row i times the columns of x.
+inline Columns4 row_times(const LaplaceMatrix& m, Index i, const ColorColumns& x) {
+  const int* inner = m.innerIndexPtr();
+  const double* value = m.valuePtr();
+  const double* xs = x.data();
+  Columns4 s{0, 0, 0, 0};
+  for (int k = m.outerIndexPtr()[i]; k < m.outerIndexPtr()[i + 1]; ++k) {
+    const double v = value[k];
+    const double* row = xs + 4 * static_cast<Index>(inner[k]);
+    s[0] += v * row[0], s[1] += v * row[1], s[2] += v * row[2], s[3] += v * row[3];
+  }
+  return s;
+}
+
+// y = m x.
+void multiply(const LaplaceMatrix& m, const ColorColumns& x, ColorColumns& y) {
+  y.resize(m.rows(), 4);
+  for_row_blocks(m.rows(), [&](Index begin, Index end) {
+    for (Index i = begin; i < end; ++i) {
+      const Columns4 s = row_times(m, i, x);
+      for (int c = 0; c < 4; ++c) y(i, c) = s[c];
+    }
+  });
+}
+
+// y += m x.
+void multiply_add(const LaplaceMatrix& m, const ColorColumns& x, ColorColumns& y) {
+  for_row_blocks(m.rows(), [&](Index begin, Index end) {
+    for (Index i = begin; i < end; ++i) {
+      const Columns4 s = row_times(m, i, x);
+      for (int c = 0; c < 4; ++c) y(i, c) += s[c];
+    }
+  });
+}
+
+// out = b - a x.
+void residual(const LaplaceMatrix& a, const ColorColumns& x, const ColorColumns& b,
+              ColorColumns& out) {
+  out.resize(a.rows(), 4);
+  for_row_blocks(a.rows(), [&](Index begin, Index end) {
+    for (Index i = begin; i < end; ++i) {
+      const Columns4 s = row_times(a, i, x);
+      for (int c = 0; c < 4; ++c) out(i, c) = b(i, c) - s[c];
+    }
+  });
+}
+
+// Per column, the sum over rows of u(i, c) * v(i, c): block partial sums in
+// parallel, then added in block order.
+Columns4 column_dots(const ColorColumns& u, const ColorColumns& v) {
+  const Index rows = u.rows();
+  std::vector<Columns4> partial(static_cast<std::size_t>(block_count(rows)), Columns4{0, 0, 0, 0});
+  for_row_blocks(rows, [&](Index begin, Index end) {
+    Columns4 s{0, 0, 0, 0};
+    for (Index i = begin; i < end; ++i) {
+      for (int c = 0; c < 4; ++c) s[c] += u(i, c) * v(i, c);
+    }
+    partial[static_cast<std::size_t>(begin / kBlockRows)] = s;
+  });
+  Columns4 total{0, 0, 0, 0};
+  for (const Columns4& s : partial) {
+    for (int c = 0; c < 4; ++c) total[c] += s[c];
+  }
+  return total;
+}
+
+// Damped Jacobi weights omega / a_ii, with omega = 4 / (3 rho) and rho the
+// Gershgorin bound max_i sum_j |a_ij| / a_ii on the spectral radius of
+// D^-1 a (at most 2 for a diagonally dominant M-matrix): the usual choice
+// for smoothed aggregation, safe without an eigenvalue estimate.
+Eigen::VectorXd jacobi_weights(const LaplaceMatrix& a) {
+  const Index n = a.rows();
+  Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(n);
+  double rho = 0;
+  for (Index i = 0; i < n; ++i) {
+    double row_sum = 0;
+    for (LaplaceMatrix::InnerIterator it(a, i); it; ++it) {
+      if (it.col() == i) diagonal[i] = it.value();
+      row_sum += std::abs(it.value());
+    }
+    rho = std::max(rho, row_sum / diagonal[i]);
+  }
+  const double omega = 4.0 / (3.0 * rho);
+  return omega * diagonal.cwiseInverse();
+}
+
+// Greedy aggregation over the strong connections (the three phases of Vanek,
+// Mandel and Brezina): a node whose strong neighbours are all free seeds an
+// aggregate of itself and them; the rest join the aggregate of their
+// strongest aggregated neighbour, and what is left forms aggregates of its
+// own. Sequential, in row order: deterministic. Returns the count.
+int aggregate(const LaplaceMatrix& a, std::vector<int>& aggregate_of) {
+  const Index n = a.rows();
+  Eigen::VectorXd diagonal(n);
+  for (Index i = 0; i < n; ++i) diagonal[i] = a.coeff(i, i);
+  auto strong = [&](Index i, const LaplaceMatrix::InnerIterator& it) {
+    return it.col() != i &&
+           std::abs(it.value()) >= kStrength * std::sqrt(diagonal[i] * diagonal[it.col()]);
+  };
+  aggregate_of.assign(static_cast<std::size_t>(n), -1);
+  int count = 0;
+  for (Index i = 0; i < n; ++i) {
+    if (aggregate_of[i] != -1) continue;
+    bool free = true, any = false;
+    for (LaplaceMatrix::InnerIterator it(a, i); it && free; ++it) {
+      if (!strong(i, it)) continue;
+      any = true;
+      free = aggregate_of[it.col()] == -1;
+    }
+    if (!free || !any) continue;
+    aggregate_of[i] = count;
+    for (LaplaceMatrix::InnerIterator it(a, i); it; ++it) {
+      if (strong(i, it)) aggregate_of[it.col()] = count;
+    }
+    ++count;
+  }
+  const std::vector<int> seeded = aggregate_of;
+  for (Index i = 0; i < n; ++i) {
+    if (aggregate_of[i] != -1) continue;
+    double best = 0;
+    for (LaplaceMatrix::InnerIterator it(a, i); it; ++it) {
+      if (strong(i, it) && seeded[it.col()] != -1 && std::abs(it.value()) > best) {
+        best = std::abs(it.value());
+        aggregate_of[i] = seeded[it.col()];
+      }
+    }
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (aggregate_of[i] != -1) continue;
+    aggregate_of[i] = count;
+    for (LaplaceMatrix::InnerIterator it(a, i); it; ++it) {
+      if (strong(i, it) && aggregate_of[it.col()] == -1) aggregate_of[it.col()] = count;
+    }
+    ++count;
+  }
+  return count;
+}
+
+// The smoothed prolongation (I - D^-1 omega a) P_tent of the aggregation.
+LaplaceMatrix smoothed_prolongation(const LaplaceMatrix& a, const Eigen::VectorXd& jacobi,
+                                    const std::vector<int>& aggregate_of, int coarse) {
+  const Index n = a.rows();
+  LaplaceMatrix tentative(n, coarse);
+  tentative.reserve(Eigen::VectorXi::Constant(n, 1));
+  for (Index i = 0; i < n; ++i) tentative.insert(i, aggregate_of[i]) = 1.0;
+  tentative.makeCompressed();
+  LaplaceMatrix smoothing = jacobi.asDiagonal() * a;
+  LaplaceMatrix p = tentative - LaplaceMatrix(smoothing * tentative);
+  p.prune(0.0);
+  p.makeCompressed();
+  return p;
+}
+
+class Hierarchy {
+ public:
+  Status build(const LaplaceMatrix& a) {
+    levels_.clear();
+    levels_.emplace_back();
+    levels_.back().a = a;
+    while (static_cast<int>(levels_.size()) < kMaxLevels &&
+           levels_.back().a.rows() > kCoarsestRows) {
+      Level& fine = levels_.back();
+      fine.jacobi = jacobi_weights(fine.a);
+      std::vector<int> aggregate_of;
+      const int coarse = aggregate(fine.a, aggregate_of);
+      if (coarse >= fine.a.rows() * 9 / 10) break;  // coarsening stalled: solve here
+      fine.p = smoothed_prolongation(fine.a, fine.jacobi, aggregate_of, coarse);
+      fine.r = fine.p.transpose();
+      LaplaceMatrix ap = fine.a * fine.p;
+      LaplaceMatrix coarse_a = fine.r * ap;
+      coarse_a.prune(0.0);
+      coarse_a.makeCompressed();
+      levels_.emplace_back();
+      levels_.back().a = std::move(coarse_a);
+    }
+    levels_.back().p = {};
+    levels_.back().r = {};
+    coarsest_.compute(CoarseMatrix(levels_.back().a));
+    if (coarsest_.info() != Eigen::Success) {
+      return make_error(ErrorCode::kInternal,
+                        "occlusion fill: factorising the coarsest multigrid level failed");
+    }
+    return ok_status();
+  }
+
+  int levels() const { return static_cast<int>(levels_.size()); }
+
+  // z = M r: one symmetric V-cycle (the same number of damped Jacobi sweeps
+  // before and after, so M is symmetric positive definite, as CG needs).
+  void apply(const ColorColumns& r, ColorColumns& z) {
+    levels_[0].b = r;
+    cycle(0);
+    z = levels_[0].x;
+  }
+
+ private:
+  void smooth(Level& l) {
+    residual(l.a, l.x, l.b, l.t);
+    for_row_blocks(l.a.rows(), [&](Index begin, Index end) {
+      for (Index i = begin; i < end; ++i) {
+        for (int c = 0; c < 4; ++c) l.x(i, c) += l.jacobi[i] * l.t(i, c);
+      }
+    });
+  }
+
+  void cycle(std::size_t k) {
+    Level& l = levels_[k];
+    if (k + 1 == levels_.size()) {
+      l.x = coarsest_.solve(l.b);
+      return;
+    }
+    l.x = l.jacobi.asDiagonal() * l.b;  // the first sweep, from x = 0
+    for (int s = 1; s < kSweeps; ++s) smooth(l);
+    residual(l.a, l.x, l.b, l.t);
+    multiply(l.r, l.t, levels_[k + 1].b);
+    cycle(k + 1);
+    multiply_add(l.p, levels_[k + 1].x, l.x);
+    for (int s = 0; s < kSweeps; ++s) smooth(l);
+  }
+
+  std::vector<Level> levels_;
+  Eigen::SimplicialLDLT<CoarseMatrix, Eigen::Lower> coarsest_;
+};
+
+// A breadth-first order of a's graph (seeds in index order): order[new] = old.
+// Neighbours end up near one another in memory, which the products' gathers
+// of x need once the vectors outgrow the cache (a subdivided mesh numbers the
+// new midpoints far from their corners).
+std::vector<int> breadth_first_order(const LaplaceMatrix& a) {
+  const Index n = a.rows();
+  std::vector<int> order;
+  order.reserve(static_cast<std::size_t>(n));
+  std::vector<uint8_t> seen(static_cast<std::size_t>(n), 0);
+  for (Index seed = 0; seed < n; ++seed) {
+    if (seen[seed]) continue;
+    seen[seed] = 1;
+    order.push_back(static_cast<int>(seed));
+    for (std::size_t head = order.size() - 1; head < order.size(); ++head) {
+      for (LaplaceMatrix::InnerIterator it(a, order[head]); it; ++it) {
+        if (!seen[it.col()]) seen[it.col()] = 1, order.push_back(static_cast<int>(it.col()));
+      }
+    }
+  }
+  return order;
+}
+
+// a with rows and columns renumbered: new row r is old row order[r].
+LaplaceMatrix reordered(const LaplaceMatrix& a, const std::vector<int>& order) {
+  const Index n = a.rows();
+  std::vector<int> new_of(static_cast<std::size_t>(n));
+  for (Index r = 0; r < n; ++r) new_of[order[r]] = static_cast<int>(r);
+  Eigen::VectorXi sizes(n);
+  for (Index r = 0; r < n; ++r) {
+    sizes[r] = a.outerIndexPtr()[order[r] + 1] - a.outerIndexPtr()[order[r]];
+  }
+  LaplaceMatrix out(n, n);
+  out.reserve(sizes);
+  std::vector<std::pair<int, double>> row;
+  for (Index r = 0; r < n; ++r) {
+    row.clear();
+    for (LaplaceMatrix::InnerIterator it(a, order[r]); it; ++it) {
+      row.emplace_back(new_of[it.col()], it.value());
+    }
+    std::sort(row.begin(), row.end(),
+              [](const auto& p, const auto& q) { return p.first < q.first; });
+    for (const auto& [c, v] : row) out.insert(r, c) = v;
+  }
+  out.makeCompressed();
+  return out;
+}
+
+Expected<MultigridStats> solve_ordered(const LaplaceMatrix& a, const ColorColumns& b,
+                                       ColorColumns& x, double relative_tolerance,
+                                       int max_iterations) {
+  const Index n = a.rows();
+  MultigridStats stats;
+  Hierarchy hierarchy;
+  if (Status built = hierarchy.build(a); !built) return built.error();
+  stats.levels = hierarchy.levels();
+
+  Columns4 limit{}, b_norm2 = column_dots(b, b);
+  std::array<bool, 4> done{};
+  for (int c = 0; c < 4; ++c) {
+    limit[c] = relative_tolerance * relative_tolerance * b_norm2[c];
+    if (b_norm2[c] == 0) {  // the solution is zero: no iteration could reach |r| <= 0 otherwise
+      x.col(c).setZero();
+      done[c] = true;
+    }
+  }
+  ColorColumns r, z, p, q;
+  residual(a, x, b, r);
+  hierarchy.apply(r, z);
+  p = z;
+  Columns4 rz = column_dots(r, z);
+  auto converged = [&](const Columns4& r_norm2) {
+    bool all = true;
+    for (int c = 0; c < 4; ++c) {
+      if (!done[c] && r_norm2[c] <= limit[c]) done[c] = true;
+      all = all && done[c];
+    }
+    return all;
+  };
+  auto report = [&](const Columns4& r_norm2) {
+    stats.worst_relative_residual = 0;
+    for (int c = 0; c < 4; ++c) {
+      if (b_norm2[c] > 0) {
+        stats.worst_relative_residual =
+            std::max(stats.worst_relative_residual, std::sqrt(r_norm2[c] / b_norm2[c]));
+      }
+    }
+  };
+  Columns4 r_norm2 = column_dots(r, r);
+  while (!converged(r_norm2)) {
+    if (stats.iterations == max_iterations) {
+      report(r_norm2);
+      return make_error(ErrorCode::kInternal,
+                        "occlusion fill: the multigrid solver did not converge in " +
+                            std::to_string(max_iterations) + " iterations");
+    }
+    ++stats.iterations;
+    multiply(a, p, q);
+    const Columns4 pq = column_dots(p, q);
+    Columns4 alpha{};
+    for (int c = 0; c < 4; ++c) alpha[c] = done[c] || pq[c] <= 0 ? 0.0 : rz[c] / pq[c];
+    for_row_blocks(n, [&](Index begin, Index end) {
+      for (Index i = begin; i < end; ++i) {
+        for (int c = 0; c < 4; ++c) {
+          x(i, c) += alpha[c] * p(i, c);
+          r(i, c) -= alpha[c] * q(i, c);
+        }
+      }
+    });
+    r_norm2 = column_dots(r, r);
+    if (converged(r_norm2)) break;
+    hierarchy.apply(r, z);
+    const Columns4 rz_next = column_dots(r, z);
+    Columns4 beta{};
+    for (int c = 0; c < 4; ++c) beta[c] = done[c] || rz[c] == 0 ? 0.0 : rz_next[c] / rz[c];
+    rz = rz_next;
+    for_row_blocks(n, [&](Index begin, Index end) {
+      for (Index i = begin; i < end; ++i) {
+        for (int c = 0; c < 4; ++c) p(i, c) = z(i, c) + beta[c] * p(i, c);
+      }
+    });
+  }
+  report(r_norm2);
+  return stats;
+}
+
+}  // namespace
+
+Expected<MultigridStats> solve_laplace_multigrid(const LaplaceMatrix& a, const ColorColumns& b,
+                                                 ColorColumns& x, double relative_tolerance,
+                                                 int max_iterations) {
+  const Index n = a.rows();
+  if (x.rows() != n) x = ColorColumns::Zero(n, 4);
+  if (n == 0) return MultigridStats{};
+  const std::vector<int> order = breadth_first_order(a);
+  ColorColumns ob(n, 4), ox(n, 4);
+  for (Index r = 0; r < n; ++r) ob.row(r) = b.row(order[r]), ox.row(r) = x.row(order[r]);
+  Expected<MultigridStats> stats =
+      solve_ordered(reordered(a, order), ob, ox, relative_tolerance, max_iterations);
+  if (stats) {
+    for (Index r = 0; r < n; ++r) x.row(order[r]) = ox.row(r);
+  }
+  return stats;
+}
+
+}  // namespace texbake

@@ -1,0 +1,347 @@
+#include "mesh_io/colmap_model.h"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <type_traits>
+
+#include "mesh_io/byte_order.h"
+#include "mesh_io/regular_file.h"
+
+namespace texbake {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The intrinsics of one COLMAP camera.
+struct Intrinsics {
+  CameraModel model = CameraModel::kPinhole;
+  int width = 0, height = 0;
+  std::vector<double> params;
+};
+
+Error parse_error(const std::string& where, const std::string& what) {
+  return make_error(ErrorCode::kParse, where + ": " + what);
+}
+
+// Turns a Camera::make or pose error into one naming the place.
+Error located(const std::string& where, const Error& e) {
+  return parse_error(where, e.message);
+}
+
+Expected<Camera> make_photo_camera(const Intrinsics& in, const std::array<double, 4>& q, Vec3 t,
+                                   const std::string& where) {
+  Expected<CameraPose> pose = pose_from_quaternion(q, t, CameraAxes::kOpenCV, where);
+  // The pose's message already starts with `where`; the file is at fault.
+  if (!pose) return make_error(ErrorCode::kParse, pose.error().message);
+  Expected<Camera> camera = Camera::make({in.model, in.width, in.height, in.params, *pose});
+  if (!camera) return located(where, camera.error());
+  return camera;
+}
+
+// ---- Text ---------------------------------------------------------------
+
+// Calls fn(line_number, line) for every line that is not blank or a comment.
+template <class Fn>
+Status for_data_lines(const fs::path& path, Fn&& fn) {
+  std::ifstream in(path);
+  if (!in) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
+  std::string line;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::size_t first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line[first] == '#') continue;
+    if (Status s = fn(number, line, first == std::string::npos); !s) return s;
+  }
+  if (in.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
+  return ok_status();
+}
+
+// Whole-token numbers: "12x" or "1e999" are errors.
+template <class T>
+bool read_token(std::istringstream& in, T& out) {
+  std::string token;
+  if (!(in >> token)) return false;
+  std::istringstream one(token);
+  one >> out;
+  return one && one.peek() == std::char_traits<char>::eof() &&
+         (!std::is_floating_point_v<T> || std::isfinite(static_cast<double>(out)));
+}
+
+Expected<std::map<uint32_t, Intrinsics>> read_cameras_text(const fs::path& path) {
+  std::map<uint32_t, Intrinsics> cameras;
+  const std::string file = path.filename().string();
+  Status s = for_data_lines(path, [&](std::size_t number, const std::string& line, bool blank) {
+    if (blank) return ok_status();
+    const std::string where = file + " line " + std::to_string(number);
+    std::istringstream in(line);
+    uint64_t id = 0;
+    std::string model_name;
+    int64_t width = 0, height = 0;
+    if (!read_token(in, id) || id > UINT32_MAX || !(in >> model_name) || !read_token(in, width) ||
+        !read_token(in, height)) {
+      return Status(parse_error(where, "expected CAMERA_ID MODEL WIDTH HEIGHT PARAMS..."));
+    }
+    const std::optional<CameraModel> model = camera_model_from_name(model_name);
+    if (!model) return Status(parse_error(where, "unknown camera model " + model_name));
+    if (width < 1 || height < 1 || width > INT32_MAX || height > INT32_MAX) {
+      return Status(parse_error(where, "the width and height must be positive"));
+    }
+    Intrinsics cam{*model, static_cast<int>(width), static_cast<int>(height), {}};
+    double v = 0;
+    while (read_token(in, v)) cam.params.push_back(v);
+    if (!in.eof()) return Status(parse_error(where, "a camera parameter is not a finite number"));
+    if (static_cast<int>(cam.params.size()) != camera_param_count(*model)) {
+      return Status(
+          parse_error(where, model_name + " takes " + std::to_string(camera_param_count(*model)) +
+                                 " parameters, got " + std::to_string(cam.params.size())));
+    }
+    if (!cameras.emplace(static_cast<uint32_t>(id), std::move(cam)).second) {
+      return Status(parse_error(where, "camera id " + std::to_string(id) + " appears twice"));
+    }
+    return ok_status();
+  });
+  if (!s) return s.error();
+  return cameras;
+}
+
+Expected<std::vector<ColmapImage>> read_images_text(const fs::path& path,
+                                                    const std::map<uint32_t, Intrinsics>& cameras) {
+  std::vector<ColmapImage> images;
+  std::map<uint32_t, std::size_t> seen;
+  const std::string file = path.filename().string();
+  bool points_line_next = false;
+  Status s = for_data_lines(path, [&](std::size_t number, const std::string& line, bool blank) {
+    // Each image has a second line, its 2D points, which may be empty.
+    if (points_line_next) {
+      points_line_next = false;
+      return ok_status();
+    }
+    if (blank) return ok_status();
+    const std::string where = file + " line " + std::to_string(number);
+    std::istringstream in(line);
+    uint64_t id = 0, camera_id = 0;
+    std::array<double, 4> q{};
+    std::array<double, 3> t{};
+    bool ok = read_token(in, id) && id <= UINT32_MAX;
+    for (double& v : q) ok = ok && read_token(in, v);
+    for (double& v : t) ok = ok && read_token(in, v);
+    ok = ok && read_token(in, camera_id) && camera_id <= UINT32_MAX;
+    std::string name;
+    if (ok) {
+      std::getline(in >> std::ws, name);
+      while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.pop_back();
+    }
+    if (!ok || name.empty()) {
+      return Status(parse_error(where, "expected IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME"));
+    }
+    const auto cam = cameras.find(static_cast<uint32_t>(camera_id));
+    if (cam == cameras.end()) {
+      return Status(parse_error(where, "image " + std::to_string(id) + " names camera id " +
+                                           std::to_string(camera_id) +
+                                           ", which cameras.txt does not define"));
+    }
+    if (!seen.emplace(static_cast<uint32_t>(id), images.size()).second) {
+      return Status(parse_error(where, "image id " + std::to_string(id) + " appears twice"));
+    }
+    Expected<Camera> camera = make_photo_camera(cam->second, q, {t[0], t[1], t[2]}, where);
+    if (!camera) return Status(camera.error());
+    images.push_back({static_cast<uint32_t>(id), static_cast<uint32_t>(camera_id), name,
+                      std::move(camera).value()});
+    points_line_next = true;
+    return ok_status();
+  });
+  if (!s) return s.error();
+  return images;
+}
+
+// ---- Binary -------------------------------------------------------------
+
+// A little-endian reader over a whole file held in memory (COLMAP's binary
+// models are small: cameras.bin a few hundred bytes, images.bin mostly 2D
+// points, which are skipped without copying).
+class BinaryReader {
+ public:
+  BinaryReader(std::string file, std::vector<char> bytes)
+      : file_(std::move(file)), bytes_(std::move(bytes)) {}
+
+  template <class T>
+  bool read(T& out) {
+    if (bytes_.size() - pos_ < sizeof(T)) return false;
+    std::memcpy(&out, bytes_.data() + pos_, sizeof(T));
+    pos_ += sizeof(T);
+    if constexpr (std::endian::native == std::endian::big && sizeof(T) > 1) {
+      if constexpr (std::is_same_v<T, double>) {
+        out = std::bit_cast<double>(byte_swap(std::bit_cast<uint64_t>(out)));
+      } else {
+        out = static_cast<T>(byte_swap(static_cast<std::make_unsigned_t<T>>(out)));
+      }
+    }
+    return true;
+  }
+  bool read_string(std::string& out) {
+    const auto* begin = bytes_.data() + pos_;
+    const auto* end = static_cast<const char*>(std::memchr(begin, '\0', bytes_.size() - pos_));
+    if (!end) return false;
+    out.assign(begin, end);
+    pos_ += static_cast<std::size_t>(end - begin) + 1;
+    return true;
+  }
+  bool skip(uint64_t count, uint64_t size) {
+    if (size != 0 && count > (bytes_.size() - pos_) / size) return false;
+    pos_ += static_cast<std::size_t>(count * size);
+    return true;
+  }
+  std::size_t remaining() const { return bytes_.size() - pos_; }
+  Error truncated(uint64_t record) const {
+    return parse_error(file_, "truncated in record " + std::to_string(record));
+  }
+
+ private:
+  std::string file_;
+  std::vector<char> bytes_;
+  std::size_t pos_ = 0;
+};
+
+Expected<BinaryReader> open_binary(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
+  return BinaryReader(path.filename().string(), std::move(bytes));
+}
+
+Status check_count(BinaryReader& r, uint64_t count, uint64_t min_record_bytes,
+                   const std::string& file) {
+  if (min_record_bytes != 0 && count > r.remaining() / min_record_bytes) {
+    return parse_error(file, "declares " + std::to_string(count) +
+                                 " records, more than the file can hold (truncated?)");
+  }
+  return ok_status();
+}
+
+Status check_end(const BinaryReader& r, const std::string& file) {
+  if (r.remaining() != 0) {
+    return parse_error(file, std::to_string(r.remaining()) + " bytes after the last record");
+  }
+  return ok_status();
+}
+
+Expected<std::map<uint32_t, Intrinsics>> read_cameras_binary(const fs::path& path) {
+  Expected<BinaryReader> opened = open_binary(path);
+  if (!opened) return opened.error();
+  BinaryReader& r = *opened;
+  const std::string file = path.filename().string();
+  uint64_t count = 0;
+  if (!r.read(count)) return r.truncated(0);
+  if (Status s = check_count(r, count, 24, file); !s) return s.error();
+  std::map<uint32_t, Intrinsics> cameras;
+  for (uint64_t k = 1; k <= count; ++k) {
+    const std::string where = file + " record " + std::to_string(k);
+    uint32_t id = 0;
+    int32_t model_id = 0;
+    uint64_t width = 0, height = 0;
+    if (!r.read(id) || !r.read(model_id) || !r.read(width) || !r.read(height))
+      return r.truncated(k);
+    const std::optional<CameraModel> model = camera_model_from_id(model_id);
+    if (!model) return parse_error(where, "unknown camera model id " + std::to_string(model_id));
+    if (width < 1 || height < 1 || width > INT32_MAX || height > INT32_MAX) {
+      return parse_error(where, "the width and height must be positive");
+    }
+    Intrinsics cam{*model, static_cast<int>(width), static_cast<int>(height),
+                   std::vector<double>(static_cast<std::size_t>(camera_param_count(*model)))};
+    for (double& v : cam.params) {
+      if (!r.read(v)) return r.truncated(k);
+    }
+    if (!cameras.emplace(id, std::move(cam)).second) {
+      return parse_error(where, "camera id " + std::to_string(id) + " appears twice");
+    }
+  }
+  if (Status s = check_end(r, file); !s) return s.error();
+  return cameras;
+}
+
+Expected<std::vector<ColmapImage>> read_images_binary(
+    const fs::path& path, const std::map<uint32_t, Intrinsics>& cameras) {
+  Expected<BinaryReader> opened = open_binary(path);
+  if (!opened) return opened.error();
+  BinaryReader& r = *opened;
+  const std::string file = path.filename().string();
+  uint64_t count = 0;
+  if (!r.read(count)) return r.truncated(0);
+  if (Status s = check_count(r, count, 72, file); !s) return s.error();
+  std::vector<ColmapImage> images;
+  std::map<uint32_t, std::size_t> seen;
+  for (uint64_t k = 1; k <= count; ++k) {
+    const std::string where = file + " record " + std::to_string(k);
+    uint32_t id = 0, camera_id = 0;
+    std::array<double, 4> q{};
+    std::array<double, 3> t{};
+    bool ok = r.read(id);
+    for (double& v : q) ok = ok && r.read(v);
+    for (double& v : t) ok = ok && r.read(v);
+    ok = ok && r.read(camera_id);
+    std::string name;
+    uint64_t points = 0;
+    ok = ok && r.read_string(name) && r.read(points) && r.skip(points, 24);
+    if (!ok) return r.truncated(k);
+    if (name.empty()) return parse_error(where, "the image has no name");
+    const auto cam = cameras.find(camera_id);
+    if (cam == cameras.end()) {
+      return parse_error(where, "image " + std::to_string(id) + " names camera id " +
+                                    std::to_string(camera_id) +
+                                    ", which cameras.bin does not define");
+    }
+    if (!seen.emplace(id, images.size()).second) {
+      return parse_error(where, "image id " + std::to_string(id) + " appears twice");
+    }
+    Expected<Camera> camera = make_photo_camera(cam->second, q, {t[0], t[1], t[2]}, where);
+    if (!camera) return camera.error();
+    images.push_back({id, camera_id, name, std::move(camera).value()});
+  }
+  if (Status s = check_end(r, file); !s) return s.error();
+  return images;
+}
+
+bool is_file(const fs::path& p) {
+  std::error_code ec;
+  return fs::exists(p, ec);
+}
+
+}  // namespace
+
+Expected<std::vector<ColmapImage>> read_colmap_model(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) {
+    return make_error(ErrorCode::kIo, folder.string() + ": no such folder (a COLMAP sparse model)");
+  }
+  const bool binary = is_file(folder / "cameras.bin") && is_file(folder / "images.bin");
+  const bool text = is_file(folder / "cameras.txt") && is_file(folder / "images.txt");
+  if (!binary && !text) {
+    return make_error(ErrorCode::kIo, folder.string() +
+                                          ": no COLMAP model (cameras.txt + images.txt or "
+                                          "cameras.bin + images.bin)");
+  }
+  const fs::path cameras_path = folder / (binary ? "cameras.bin" : "cameras.txt");
+  const fs::path images_path = folder / (binary ? "images.bin" : "images.txt");
+  for (const fs::path& p : {cameras_path, images_path}) {
+    if (Status s = check_regular_file(p, "a COLMAP model file"); !s) return s.error();
+  }
+  Expected<std::map<uint32_t, Intrinsics>> cameras =
+      binary ? read_cameras_binary(cameras_path) : read_cameras_text(cameras_path);
+  if (!cameras) return cameras.error();
+  Expected<std::vector<ColmapImage>> images =
+      binary ? read_images_binary(images_path, *cameras) : read_images_text(images_path, *cameras);
+  if (!images) return images.error();
+  if (images->empty()) {
+    return parse_error(images_path.filename().string(), "the model has no registered image");
+  }
+  return images;
+}
+
+}  // namespace texbake

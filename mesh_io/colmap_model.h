@@ -1,0 +1,45 @@
+// COLMAP sparse models (SPEC section 9, --cameras FOLDER): the cameras and
+// registered images of `cameras.txt` + `images.txt` or `cameras.bin` +
+// `images.bin` (COLMAP's own formats, doc/format.rst; `points3D` is not
+// needed and not read). Each image becomes one camera projector
+// (mapping/camera.h) with its photo's file name.
+//
+// When a folder holds both forms, the binary one is read, as COLMAP does.
+// Text: '#' starts a comment line; cameras.txt has `CAMERA_ID MODEL WIDTH
+// HEIGHT PARAMS...`; images.txt has two lines per image, `IMAGE_ID QW QX QY
+// QZ TX TY TZ CAMERA_ID NAME` and its 2D points (skipped). Binary (little
+// endian): cameras.bin = u64 count, then per camera u32 id, i32 model id,
+// u64 width, u64 height, doubles (the model's count); images.bin = u64
+// count, then per image u32 id, 4 + 3 doubles (q, t), u32 camera id, the
+// name up to a NUL, u64 point count, 24 bytes per point (skipped).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "mapping/camera.h"
+#include "mapping/error.h"
+
+namespace texbake {
+
+struct ColmapImage {
+  uint32_t image_id = 0;
+  uint32_t camera_id = 0;
+  std::string name;  // the photo's path relative to the images folder, as stored
+  Camera camera;     // intrinsics of camera_id with this image's pose
+};
+
+// The registered images of the model in `folder`, in file order. Errors name
+// the file and the line (text) or record (binary):
+//   kIo: the folder or a file is missing or unreadable ("FOLDER: no COLMAP
+//        model (cameras.txt + images.txt or cameras.bin + images.bin)");
+//   kParse: a malformed line, an unknown model ("cameras.txt line 4: unknown
+//        camera model FOO"), a wrong parameter count, a duplicate id, an
+//        image naming an unknown camera id, a non-unit quaternion, a
+//        truncated binary file ("images.bin: truncated in record 3"), trailing
+//        bytes after the last binary record.
+Expected<std::vector<ColmapImage>> read_colmap_model(const std::filesystem::path& folder);
+
+}  // namespace texbake
