@@ -314,6 +314,17 @@ py::array_t<float> image_array(Image&& image) {
   return owned(std::move(image.pixels), {h, w, 4});
 }
 
+// 3 numbers (any sequence); ValueError naming `name` otherwise.
+Vec3 vec3_arg(const py::handle& h, const std::string& name) {
+  std::vector<double> v;
+  try {
+    v = h.cast<std::vector<double>>();
+  } catch (const py::cast_error&) {
+  }
+  if (v.size() != 3) usage(name + " must be 3 numbers (x, y, z)");
+  return Vec3{v[0], v[1], v[2]};
+}
+
 // ---- Options from the CLI's names -----------------------------------------
 
 template <class T>
@@ -418,15 +429,7 @@ ProxySpec spec_from_dict(const std::string& kind_name, const py::dict& values,
           "' (expected sphere, cylinder, cone, disk, quad or plane)");
   }
   ProxySpec spec{*kind, {}, std::nullopt};
-  auto vec3 = [](const py::handle& h, const std::string& key) {
-    std::vector<double> v;
-    try {
-      v = h.cast<std::vector<double>>();
-    } catch (const py::cast_error&) {
-    }
-    if (v.size() != 3) usage(key + " must be 3 numbers (x, y, z)");
-    return Vec3{v[0], v[1], v[2]};
-  };
+  const auto& vec3 = vec3_arg;
   for (const auto& [k, value] : values) {
     if (value.is_none()) continue;
     const std::string key = py::str(k);
@@ -730,9 +733,7 @@ PYBIND11_MODULE(_texbake, m) {
     o.views = views;
     o.shadows = shadows;
     o.samples_per_pixel = samples;
-    const std::vector<double> u = up.cast<std::vector<double>>();
-    if (u.size() != 3) usage("up must be 3 numbers");
-    o.up = {u[0], u[1], u[2]};
+    o.up = vec3_arg(up, "up");
     o.smooth_normals = !flat;
     if (!background.is_none()) {
       const Rgba b = color_arg(background, "background");
@@ -799,7 +800,7 @@ PYBIND11_MODULE(_texbake, m) {
 
   // ---- Writers ----
   m.def("write_vertex_colors", [](const std::filesystem::path& path, const LoadedMesh& mesh,
-                                  py::handle colors, bool ascii) {
+                                  py::handle colors, bool ascii, py::handle up) {
     Array<float> c = rows<float>(colors, "colors", 0);
     if (c.shape(1) != 3 && c.shape(1) != 4) usage("colors must have shape (n, 3) or (n, 4)");
     std::vector<Rgba> rgba(c.shape(0));
@@ -809,12 +810,14 @@ PYBIND11_MODULE(_texbake, m) {
     }
     WriteOptions o;
     o.ascii = ascii;
+    o.up = vec3_arg(up, "up");
     py::gil_scoped_release release;
     check(write_vertex_colors(path, mesh.mesh, rgba, o));
   });
   m.def("write_atlas", [](const std::filesystem::path& path, const Atlas& atlas,
-                          const std::string& format) {
+                          const std::string& format, py::handle up) {
     WriteOptions o;
+    o.up = vec3_arg(up, "up");
     o.format = choice<AtlasFormat>(
         format, "format",
         {{"png8", AtlasFormat::kPng8}, {"png16", AtlasFormat::kPng16}, {"exr", AtlasFormat::kExr}});

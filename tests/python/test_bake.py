@@ -124,3 +124,19 @@ def test_mesh_uvs_from_a_file_and_from_arrays(tmp_path, earth):
         assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
     with pytest.raises(ValueError, match="--uv mesh"):
         texbake.bake_atlas(suzanne.vertices, suzanne.faces, earth, proxy, uv="mesh")
+
+
+@pytest.mark.parametrize("up", [None, "y"])
+def test_glb_writes_the_cli_bytes_with_its_up(tmp_path, earth, up):
+    mesh = texbake.read_mesh(DATA / "mushroom.off")
+    cli = tmp_path / "cli.glb"
+    r = run_cli("bake", DATA / "mushroom.off", "--texture", DATA / "earth.jpg", *SPHERE_FLAGS,
+                *(["--up", up] if up else []), "--target", "vertex", "-q", "-o", cli)
+    assert r.returncode == 0, r.stderr
+    colors, _ = texbake.bake_vertex(mesh, earth, sphere())
+    out = tmp_path / "py.glb"
+    texbake.write_vertex_colors(out, mesh, colors, up=up or "z")
+    assert out.read_bytes() == cli.read_bytes()
+    if up:  # the node matrix differs from the Z-up one
+        texbake.write_vertex_colors(tmp_path / "z.glb", mesh, colors)
+        assert (tmp_path / "z.glb").read_bytes() != cli.read_bytes()

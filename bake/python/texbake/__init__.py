@@ -299,20 +299,22 @@ def compare(a, b, mask_background=False, background=None):
 
 # ---- Writing ---------------------------------------------------------------
 
-def write_vertex_colors(path, mesh, colors, ascii=False):
+def write_vertex_colors(path, mesh, colors, ascii=False, up="z"):
     """Write `mesh` with per-vertex `colors` (n, 3|4) by extension: .ply
-    (binary, or ascii=True), .obj (v x y z r g b), .glb (COLOR_0, linear).
-    Atomic. The same bytes as `texbake bake -o path`."""
+    (binary, or ascii=True), .obj (v x y z r g b), .glb (COLOR_0, linear;
+    its node matrix turns `up` to glTF's +Y, as `bake --up`). Atomic. The
+    same bytes as `texbake bake -o path`. `mesh` may be (vertices, faces)."""
     if not isinstance(mesh, Mesh):
         mesh = Mesh(*mesh)
-    _texbake.write_vertex_colors(_os.fspath(path), mesh, colors, ascii)
+    _texbake.write_vertex_colors(_os.fspath(path), mesh, colors, ascii, _up(up))
 
 
-def write_atlas(path, atlas, format="png8"):
+def write_atlas(path, atlas, format="png8", up="z"):
     """Write an Atlas: .obj (+ .mtl + the atlas image beside it; format
-    'png8' | 'png16' | 'exr') or .glb (embedded PNG). The set is replaced
-    all together or not at all. atlas_files(path, format) names the files."""
-    _texbake.write_atlas(_os.fspath(path), atlas, format)
+    'png8' | 'png16' | 'exr') or .glb (embedded PNG; `up` as in
+    write_vertex_colors). The set is replaced all together or not at all.
+    atlas_files(path, format) names the files."""
+    _texbake.write_atlas(_os.fspath(path), atlas, format, _up(up))
 
 
 def atlas_files(path, format="png8"):
