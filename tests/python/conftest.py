@@ -9,7 +9,7 @@ import sys
 import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-BUILD = pathlib.Path(os.environ.get("TEXBAKE_BUILD", ROOT / "build"))
+BUILD = pathlib.Path(os.environ.get("TEXBAKE_BUILD", ROOT / "build")).resolve()
 DATA = ROOT / "data"
 TEXBAKE = BUILD / "texbake"
 sys.path.insert(0, str(BUILD / "python"))
