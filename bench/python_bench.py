@@ -8,7 +8,9 @@
    - py_job: read_mesh + read_image + bake_vertex + write_vertex_colors in
      Python, vs cli_job: the same job's `texbake bake --report` timings.total
      (the command's own time, without process start), and cli_wall (the
-     whole process) with cli_start (`texbake --version`, process start).
+     whole process) with cli_start (`texbake --version`, process start);
+     the two alternate run by run; py_cold is the Python job as the first
+     of a fresh interpreter (one-time library start-up included).
 2. Batch: 100 small jobs (mushroom, 2337 vertices, per vertex) as one shard
    with all threads vs two shards at once (GNU parallel,
    examples/batch/parallel.sh) with half the threads each: jobs per second.
@@ -34,9 +36,9 @@ SPHERE = ["--proxy", "sphere", "--center", "0,0,0", "--radius", "1", "--pole", "
           "--equator", "0,0,1"]
 
 
-def median_time(f):
+def median_time(f, repeat=None):
     times = []
-    for _ in range(REPEAT):
+    for _ in range(repeat or REPEAT):
         start = time.perf_counter()
         f()
         times.append(time.perf_counter() - start)
@@ -62,7 +64,6 @@ def call_overhead(tmp):
         colors, _ = texbake.bake_vertex(m, img, proxy)
         texbake.write_vertex_colors(tmp / "py.ply", m, colors)
 
-    py_job = median_time(job)
     cli_totals = []
 
     def cli():
@@ -84,7 +85,12 @@ def call_overhead(tmp):
     colds = [float(subprocess.run([sys.executable, "-c", cold_code], check=True,
                                   capture_output=True, text=True).stdout) for _ in range(REPEAT)]
     py_cold = statistics.median(colds)
-    cli_wall = median_time(cli)
+    # Alternated, so that the load of a shared machine weighs on both alike.
+    py_times, cli_walls = [], []
+    for _ in range(REPEAT):
+        py_times.append(median_time(job, 1))
+        cli_walls.append(median_time(cli, 1))
+    py_job, cli_wall = statistics.median(py_times), statistics.median(cli_walls)
     cli_job = statistics.median(cli_totals)
     cli_start = median_time(lambda: subprocess.run([TEXBAKE, "--version"], check=True,
                                                    capture_output=True))
