@@ -7,8 +7,9 @@
 #                                    targets (all when none is given)
 # texbake_build_packages are what the library and the `texbake` executable
 # build with (the demo needs only these); texbake_test_packages are added for
-# the test suite, the benchmarks and the fuzzers; texbake_peer_packages are
-# the peers bench/peers/run.sh compares with.
+# the test suite, the benchmarks and the fuzzers (and the Python module, its
+# pytest tests and GNU parallel for the batch shards); texbake_peer_packages
+# are the peers bench/peers/run.sh compares with.
 set -euo pipefail
 
 TEXBAKE_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -23,6 +24,7 @@ texbake_build_packages=(
 texbake_test_packages=(
   libgtest-dev libbenchmark-dev
   clang libclang-rt-dev
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-open3d parallel
   nodejs
 )
 # Node.js runs the Khronos glTF-Validator of the tests (tests/gltf; the

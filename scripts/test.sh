@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The CI entry point. Installs what is missing (setup.sh), then runs, failing
 # at the first stage that fails:
-#   1. release: Release build into build/ and the whole test suite;
+#   1. release: Release build into build/ and the whole test suite (ctest,
+#      then the Python module's pytest tests);
 #   2. sanitize: AddressSanitizer + UndefinedBehaviorSanitizer build into
 #      build-asan/ (gcc, -O1) of the test binaries and the texbake executable
 #      (the CLI tests run it), and the fast part of the suite;
@@ -39,6 +40,9 @@ release_stage() {
   texbake_build
   (cd "$TEXBAKE_BUILD" && ctest --output-on-failure --parallel "$texbake_jobs" --timeout 600) |
     tee "$TEXBAKE_BUILD/ctest-release.log"
+  # The Python module's tests (tests/python, pytest) against this build.
+  TEXBAKE_BUILD="$TEXBAKE_BUILD" /usr/bin/python3 -m pytest -q -p no:cacheprovider \
+    "$TEXBAKE_ROOT/tests/python"
 }
 
 sanitize_stage() {

@@ -31,22 +31,23 @@ int report_mesh_error(const Error& error, const std::string& mesh) {
   return report_error(make_error(error.code, mesh + ": " + error.message));
 }
 
-std::unique_ptr<CliApp> make_cli_app() {
+std::unique_ptr<CliApp> make_cli_app(const CliHooks& hooks) {
   auto cli = std::make_unique<CliApp>();
   CLI::App& app = cli->app;
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("texbake ") + texbake::version());
-  auto add = [&](RunFunction (*adder)(CLI::App&)) {
+  auto add = [&](const std::function<RunFunction(CLI::App&)>& adder) {
     const std::size_t before = app.get_subcommands({}).size();
     RunFunction run = adder(app);
     cli->runs[app.get_subcommands({})[before]] = std::move(run);
   };
-  add(add_bake_command);
+  add([&](CLI::App& a) { return add_bake_command(a, hooks); });
   add(add_fit_command);
   add(add_map_command);
   add(add_render_command);
   add(add_compare_command);
   add(add_info_command);
+  add(add_batch_command);
   return cli;
 }
 

@@ -19,8 +19,9 @@ struct CliApp {
 };
 
 // A fresh app with all subcommands registered (bake, fit, map, render,
-// compare, info). Each call gives independent option storage.
-std::unique_ptr<CliApp> make_cli_app();
+// compare, info, batch). Each call gives independent option storage.
+// `hooks` go to the commands that take them (bake).
+std::unique_ptr<CliApp> make_cli_app(const CliHooks& hooks = {});
 
 // Parses argv (argv[0] is the program name). Returns the exit code when
 // parsing ends the run (--help, --version: 0; a usage error: 2, printed as

@@ -62,8 +62,9 @@ struct BakeCliOptions {
   std::string report;
   int threads = 0;
   bool quiet = false;
-  PhotoFlags photos;                  // --cameras, --images, --blend, --exposure
-  const CLI::App* command = nullptr;  // to ask which flags were given
+  PhotoFlags photos;                                  // --cameras, --images, --blend, --exposure
+  const CLI::App* command = nullptr;                  // to ask which flags were given
+  std::function<void(const std::string&)> on_report;  // CliHooks::on_report
 };
 
 // Parses "R,G,B" or "R,G,B,A", each a number in [0, 1]. Throws
@@ -389,6 +390,7 @@ int run_bake(const BakeCliOptions& o) {
     what = line;
   }
   report.total = seconds_since(start);
+  if (o.on_report) o.on_report(report_json(report));
   if (!o.report.empty()) {
     if (Status s = write_report(o.report, report); !s) return report_error(s.error());
   }
@@ -401,8 +403,9 @@ int run_bake(const BakeCliOptions& o) {
 
 }  // namespace
 
-RunFunction add_bake_command(CLI::App& app) {
+RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
   auto o = std::make_shared<BakeCliOptions>();
+  o->on_report = hooks.on_report;
   CLI::App* cmd = app.add_subcommand(
       "bake",
       "Bake an image onto a mesh through a proxy shape: per-vertex colours (--target vertex: "

@@ -15,12 +15,23 @@ namespace texbake::cli {
 
 using RunFunction = std::function<int()>;
 
+// What a caller that runs the commands in-process (texbake batch) hears
+// besides the exit code.
+struct CliHooks {
+  // Called by a successful `bake` with its report (report_json of
+  // bake/cli/report.h), whether or not --report was given.
+  std::function<void(const std::string& report_json)> on_report;
+};
+
 RunFunction add_map_command(CLI::App& app);
-RunFunction add_bake_command(CLI::App& app);
+RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks = {});
 RunFunction add_fit_command(CLI::App& app);
 RunFunction add_render_command(CLI::App& app);
 RunFunction add_compare_command(CLI::App& app);
 RunFunction add_info_command(CLI::App& app);
+// texbake batch JOBS.jsonl (bake/cli/cmd_batch.cpp): each line's job runs
+// through a fresh app of make_cli_app (bake/cli/app.h).
+RunFunction add_batch_command(CLI::App& app);
 
 // The exit code of an error, by its category (texbake/texbake.h): 2 for
 // kUsage, 1 for kInput, kInternal and kCancelled (SPEC section 5). The one

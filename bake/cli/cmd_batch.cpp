@@ -1,0 +1,365 @@
+// texbake batch JOBS.jsonl [--results R.jsonl] [--fail-fast] [--shard K/N]
+//   [--skip-existing] [--threads N] [-q]        (SPEC section 12, issue #15)
+//
+// One `texbake bake` job a line: a JSON object with the command line's keys
+// by their long names ("mesh", "texture", "proxy" | "proxy_file", "output",
+// "center": [0, 0, 0], "samples": 4, "linear": true, ...). Each job is
+// translated into the argv of the single command (job_argv) and run by a
+// fresh CLI11 app of make_cli_app in this process, so options are parsed,
+// validated and reported by exactly the code of `texbake bake`, with the
+// same messages. Relative paths are relative to the current folder, as for
+// the single command.
+//
+// Jobs run in line order; a failing job is reported with its line number
+// and the single command's message ("texbake: error: JOBS:LINE: message")
+// and the others still run (--fail-fast stops at the first failure). Line i
+// (1-based) is job index i - 1; --shard K/N runs the jobs whose index modulo
+// N is K (Slurm: --shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT).
+// Blank lines are no job. --skip-existing skips a job whose outputs all
+// exist and none is older than any of its inputs (make's rule). Exit 0 only
+// if every job of the shard succeeded or was skipped; 1 otherwise; 2 for the
+// batch's own usage errors.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "bake/cli/app.h"
+#include "bake/cli/atlas_target.h"
+#include "bake/cli/commands.h"
+#include "bake/util/timing.h"
+#include "mesh_io/atomic_file.h"
+#include "mesh_io/regular_file.h"
+
+namespace texbake::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::ordered_json;
+
+struct BatchOptions {
+  std::string jobs;
+  std::string results;
+  bool fail_fast = false;
+  std::string shard;  // "K/N"
+  bool skip_existing = false;
+  int threads = 0;  // for jobs without "threads"
+  bool quiet = false;
+};
+
+struct Shard {
+  long k = 0, n = 1;
+};
+
+// "K/N" with 0 <= K < N. kInvalidArgument naming --shard otherwise.
+Expected<Shard> parse_shard(const std::string& text) {
+  Shard s;
+  char slash = 0, extra = 0;
+  if (text.empty()) return s;
+  if (std::sscanf(text.c_str(), "%ld%c%ld%c", &s.k, &slash, &s.n, &extra) != 3 || slash != '/' ||
+      s.n < 1 || s.k < 0 || s.k >= s.n) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--shard '" + text + "' is not K/N with 0 <= K < N (e.g. 0/4)");
+  }
+  return s;
+}
+
+// A JSON value as the text of a flag's value: a string as it is, a number
+// as JSON prints it, an array of numbers "x,y,z", an array of arrays
+// "x,y,z;x,y,z;..." (--corners). Error naming the key for other values.
+Expected<std::string> flag_value(const std::string& key, const ordered_json& v) {
+  if (v.is_string()) return v.get<std::string>();
+  if (v.is_number()) return v.dump();
+  auto bad = [&] {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "key \"" + key + "\": " + v.dump() +
+                          " is not a value of the command line (a string, a number, a boolean, "
+                          "an array of numbers or of arrays of numbers)");
+  };
+  if (!v.is_array() || v.empty()) return bad();
+  std::string text;
+  for (const ordered_json& e : v) {
+    if (e.is_array()) {
+      Expected<std::string> inner = flag_value(key, e);
+      if (!inner || inner->find(';') != std::string::npos) return bad();
+      text += (text.empty() ? "" : ";") + *inner;
+    } else if (e.is_number()) {
+      text += (text.empty() ? "" : ",") + e.dump();
+    } else {
+      return bad();
+    }
+  }
+  return text;
+}
+
+// The argv of `texbake bake` for a job: "mesh" is the positional MESH,
+// every other key K is --K (underscores as hyphens: "proxy_file" is
+// --proxy-file) with its value as --K=VALUE (so a value starting with '-'
+// stays a value); true is the flag alone, false leaves it out. -q is added
+// unless the job sets "quiet" (the batch prints its own line per job).
+// `threads` is added when the job has no "threads" and it is not 0.
+Expected<std::vector<std::string>> job_argv(const ordered_json& job, int threads) {
+  std::vector<std::string> argv{"texbake", "bake"};
+  for (const auto& [key, value] : job.items()) {
+    if (key == "mesh") {
+      Expected<std::string> v = flag_value(key, value);
+      if (!v) return v.error();
+      argv.push_back(*v);
+      continue;
+    }
+    std::string flag = "--" + key;
+    for (char& c : flag) c = c == '_' ? '-' : c;
+    if (value.is_boolean()) {
+      if (value.get<bool>()) argv.push_back(flag);
+      continue;
+    }
+    Expected<std::string> v = flag_value(key, value);
+    if (!v) return v.error();
+    argv.push_back(flag + "=" + *v);
+  }
+  if (!job.contains("quiet")) argv.push_back("--quiet");
+  if (!job.contains("threads") && threads > 0)
+    argv.push_back("--threads=" + std::to_string(threads));
+  return argv;
+}
+
+std::string string_key(const ordered_json& job, const char* key) {
+  auto it = job.find(key);
+  return it != job.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+// The files the job reads and writes, as `texbake bake` would: MESH,
+// --texture, --proxy-file; -o (with an atlas OBJ's MTL and image, by
+// resolve_target and atlas_files) and --report.
+struct JobFiles {
+  std::vector<fs::path> inputs, outputs;
+};
+
+JobFiles job_files(const ordered_json& job) {
+  JobFiles f;
+  for (const char* key : {"mesh", "texture", "proxy_file"}) {
+    if (std::string p = string_key(job, key); !p.empty()) f.inputs.push_back(p);
+  }
+  const std::string output = string_key(job, "output");
+  if (!output.empty()) {
+    AtlasFlags flags;
+    flags.target = string_key(job, "target");
+    WriteOptions write;
+    const std::string format = string_key(job, "format");
+    write.format = format == "exr"     ? AtlasFormat::kExr
+                   : format == "png16" ? AtlasFormat::kPng16
+                                       : AtlasFormat::kPng8;
+    Expected<BakeTarget> target = resolve_target(flags, output);
+    if (target && *target == BakeTarget::kAtlas) {
+      f.outputs = atlas_files(output, write);
+    } else {
+      f.outputs.push_back(output);
+    }
+  }
+  if (std::string r = string_key(job, "report"); !r.empty()) f.outputs.push_back(r);
+  return f;
+}
+
+// Every output exists and none is older than any input (make's rule); false
+// when an input is missing (the job runs and reports it).
+bool up_to_date(const JobFiles& f) {
+  if (f.outputs.empty()) return false;
+  std::error_code ec;
+  fs::file_time_type newest_input = fs::file_time_type::min();
+  for (const fs::path& p : f.inputs) {
+    const fs::file_time_type t = fs::last_write_time(p, ec);
+    if (ec) return false;
+    newest_input = std::max(newest_input, t);
+  }
+  for (const fs::path& p : f.outputs) {
+    const fs::file_time_type t = fs::last_write_time(p, ec);
+    if (ec || t < newest_input) return false;
+  }
+  return true;
+}
+
+// The outcome of one job, as its line of --results.
+struct JobResult {
+  std::size_t line = 0;
+  std::string status;  // "ok", "failed", "skipped"
+  int exit_code = 0;
+  std::string error;                  // the single command's message ("" if none)
+  std::vector<std::string> warnings;  // its "texbake: warning: " lines
+  std::vector<fs::path> outputs;
+  std::optional<ordered_json> report;  // the bake's report (ok jobs)
+  double seconds = 0;
+};
+
+ordered_json result_json(const JobResult& r) {
+  ordered_json j;
+  j["line"] = r.line;
+  j["status"] = r.status;
+  j["exit"] = r.exit_code;
+  j["error"] = r.error.empty() ? ordered_json() : ordered_json(r.error);
+  j["warnings"] = r.warnings;
+  ordered_json outs = ordered_json::array();
+  for (const fs::path& p : r.outputs) outs.push_back(p.string());
+  j["outputs"] = outs;
+  if (r.report) {
+    j["target"] = (*r.report)["target"];
+    j["counts"] = (*r.report)["counts"];
+    j["timings"] = (*r.report)["timings"];
+  } else {
+    j["counts"] = ordered_json();
+    j["timings"] = ordered_json();
+  }
+  j["seconds"] = r.seconds;
+  return j;
+}
+
+// Runs argv through a fresh app, stderr captured: error and warning lines.
+void run_job(const std::vector<std::string>& argv, JobResult& r) {
+  std::optional<std::string> report;
+  CliHooks hooks;
+  hooks.on_report = [&](const std::string& json) { report = json; };
+  std::unique_ptr<CliApp> cli = make_cli_app(hooks);
+  std::vector<const char*> args;
+  for (const std::string& a : argv) args.push_back(a.c_str());
+  std::ostringstream err;
+  std::streambuf* saved = std::cerr.rdbuf(err.rdbuf());
+  std::optional<int> code = parse_cli(*cli, static_cast<int>(args.size()), args.data());
+  if (!code) code = run_parsed(*cli);
+  std::cerr.rdbuf(saved);
+  r.exit_code = *code;
+  std::istringstream lines(err.str());
+  for (std::string line; std::getline(lines, line);) {
+    static const std::string kError = "texbake: error: ", kWarning = "texbake: warning: ";
+    if (line.rfind(kError, 0) == 0 && r.error.empty()) r.error = line.substr(kError.size());
+    if (line.rfind(kWarning, 0) == 0) r.warnings.push_back(line.substr(kWarning.size()));
+  }
+  if (r.exit_code == 0 && report) r.report = ordered_json::parse(*report);
+  r.status = r.exit_code == 0 ? "ok" : "failed";
+  if (r.exit_code != 0 && r.error.empty())
+    r.error = "the job failed (exit " + std::to_string(r.exit_code) + ")";
+}
+
+Status write_results(const fs::path& path, const std::string& text) {
+  return write_atomically(path, [&](const fs::path& temp) -> Status {
+    std::ofstream out(temp, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) return make_error(ErrorCode::kIo, "cannot write results " + path.string());
+    return ok_status();
+  });
+}
+
+int run_batch(const BatchOptions& o) {
+  const auto start = Clock::now();
+  Expected<Shard> shard = parse_shard(o.shard);
+  if (!shard) return report_error(shard.error());
+  if (!o.results.empty()) {
+    if (Status s = check_writable(o.results); !s) return report_error(s.error());
+  }
+  if (Status s = check_regular_file(o.jobs, "a jobs file"); !s) return report_error(s.error());
+  std::ifstream in(o.jobs, std::ios::binary);
+  if (!in) return report_error(ErrorCode::kIo, o.jobs + ": cannot be read");
+  // The shard's lines (1-based numbers), read first to count them.
+  std::vector<std::pair<std::size_t, std::string>> lines;
+  std::string text;
+  for (std::size_t number = 1; std::getline(in, text); ++number) {
+    if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
+    if ((number - 1) % shard->n == static_cast<std::size_t>(shard->k))
+      lines.emplace_back(number, text);
+  }
+  if (in.bad()) return report_error(ErrorCode::kIo, o.jobs + ": read error");
+
+  std::string results;
+  std::size_t ok = 0, failed = 0, skipped = 0, done = 0;
+  for (const auto& [number, line] : lines) {
+    const auto job_start = Clock::now();
+    JobResult r;
+    r.line = number;
+    ordered_json job;
+    Expected<std::vector<std::string>> argv = make_error(ErrorCode::kParse, "not a JSON object");
+    try {
+      job = ordered_json::parse(line);
+      if (job.is_object()) argv = job_argv(job, o.threads);
+    } catch (const ordered_json::parse_error& e) {
+      // Without nlohmann's "[json.exception.parse_error.101] " prefix.
+      const std::string what = e.what();
+      const std::size_t end = what.find("] ");
+      argv = make_error(
+          ErrorCode::kParse,
+          "not a JSON object (" + (end == std::string::npos ? what : what.substr(end + 2)) + ")");
+    }
+    if (argv) r.outputs = job_files(job).outputs;
+    if (!argv) {
+      r.status = "failed";
+      r.exit_code = exit_code(argv.error());
+      r.error = argv.error().message;
+    } else if (o.skip_existing && up_to_date(job_files(job))) {
+      r.status = "skipped";
+    } else {
+      run_job(*argv, r);
+    }
+    r.seconds = seconds_since(job_start);
+    ++done;
+    const std::string where = o.jobs + ":" + std::to_string(number);
+    if (r.status == "failed") {
+      ++failed;
+      std::cerr << "texbake: error: " << where << ": " << r.error << "\n";
+    } else {
+      ++(r.status == "ok" ? ok : skipped);
+    }
+    if (!o.quiet) {
+      std::fprintf(stderr, "texbake: batch [%zu/%zu] %s %s (%.2f s)%s%s\n", done, lines.size(),
+                   where.c_str(), r.status.c_str(), r.seconds,
+                   r.outputs.empty() || r.status == "failed" ? "" : " -> ",
+                   r.outputs.empty() || r.status == "failed" ? "" : r.outputs[0].c_str());
+    }
+    results += result_json(r).dump() + "\n";
+    if (o.fail_fast && r.status == "failed") break;
+  }
+  if (!o.results.empty()) {
+    if (Status s = write_results(o.results, results); !s) return report_error(s.error());
+  }
+  if (!o.quiet) {
+    std::printf("batch: %zu ok, %zu failed, %zu skipped, %zu not run of %zu jobs in %.2f s\n", ok,
+                failed, skipped, lines.size() - done, lines.size(), seconds_since(start));
+    std::fflush(stdout);
+  }
+  return failed == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+RunFunction add_batch_command(CLI::App& app) {
+  auto o = std::make_shared<BatchOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "batch",
+      "Run many bakes: one JSON object a line, with the keys of `texbake bake` by their long "
+      "names (\"mesh\", \"texture\", \"proxy\", \"output\", \"samples\", ...). A failing job is "
+      "reported with its line and the others still run; exit 0 only if all succeeded.");
+  cmd->add_option("jobs", o->jobs, "the jobs file (JSON lines)")->required();
+  cmd->add_option("--results", o->results,
+                  "write one JSON line per job run (line, status, error, outputs, counts, "
+                  "timings) to this file");
+  cmd->add_flag("--fail-fast", o->fail_fast, "stop at the first failing job");
+  cmd->add_option("--shard", o->shard,
+                  "K/N: run only the jobs whose index (line number - 1) modulo N is K")
+      ->type_name("K/N");
+  cmd->add_flag("--skip-existing", o->skip_existing,
+                "skip jobs whose outputs exist and are not older than their inputs");
+  cmd->add_option("--threads", o->threads,
+                  "worker threads of each job that does not set \"threads\" (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  cmd->add_flag("-q,--quiet", o->quiet, "no line per job, no summary (errors still print)");
+  return [o] { return run_batch(*o); };
+}
+
+}  // namespace texbake::cli

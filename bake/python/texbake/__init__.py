@@ -1,0 +1,329 @@
+"""texbake: bake 2D images onto 3D meshes through analytic proxy shapes.
+
+A proxy (sphere, cylinder, cone, disk, convex quad, plane) carries every mesh
+point P to texture coordinates (u, v) by its inverse mapping; the image is
+sampled there (bilinear) and the colour stored per vertex or in a UV-atlas
+texture, with Embree ray-traced occlusion. This module wraps the C++ API
+(texbake/texbake.h) with numpy arrays in and out; the command line `texbake`
+is another client of the same calls, and both give the same bytes.
+
+    import texbake
+    mesh = texbake.read_mesh("data/bunny00.off")
+    image = texbake.read_image("data/earth.jpg")          # (h, w, 4) float32
+    proxy = texbake.fit(mesh, "sphere", up="y")            # or Proxy.sphere(...)
+    colors, stats = texbake.bake_vertex(mesh, image, proxy)
+    texbake.write_vertex_colors("bunny.ply", mesh, colors)
+
+Conventions (SPEC section 1): (u, v) in [0, 1], v = 0 the image's bottom row;
+colours RGBA in [0, 1] in the image's stored (sRGB) encoding; options are
+spelled as the command line spells them ("area", "first", "fill", ...).
+
+Meshes are texbake.Mesh objects (read_mesh, or Mesh(vertices, faces, ...));
+every function that takes a mesh also takes the two arrays `vertices` (n, 3)
+and `faces` (m, 3) in its place: bake_vertex(vertices, faces, image, proxy).
+
+Errors raise ValueError (a bad argument or option: the command line's exit
+2), OSError (a file, or a mesh the job cannot work on: exit 1), RuntimeError
+(an internal failure) or texbake.Cancelled (the progress callback returned
+False), with the command line's messages.
+
+Long calls release the GIL. `progress(stage, fraction)`, when given, is
+called with the GIL held, never concurrently with itself; returning False
+cancels the call (texbake.Cancelled); an exception it raises cancels the call
+and propagates. `threads=0` uses all cores; results never depend on it.
+"""
+
+import json as _json
+import os as _os
+
+from . import _texbake
+from ._texbake import Atlas, Cancelled, Mesh  # noqa: F401
+
+__version__ = _texbake.version()
+
+__all__ = [
+    "Atlas", "Cancelled", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
+    "bake_vertex", "compare", "fit", "map", "read_image", "read_mesh", "render",
+    "write_atlas", "write_image", "write_vertex_colors",
+]
+
+#: Names of the codes in map()'s `status` array: 0 ok, 1 outside (beyond the
+#: proxy's (u, v) domain; uv unclamped), 2 undefined (no mapping).
+STATUS = ("ok", "outside", "undefined")
+
+_UP = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1),
+       "-x": (-1, 0, 0), "-y": (0, -1, 0), "-z": (0, 0, -1)}
+
+
+def _up(up):
+    """An up direction: 'x'|'y'|'z'|'-x'|'-y'|'-z' or 3 numbers; None stays None."""
+    if up is None or not isinstance(up, str):
+        return up
+    if up not in _UP:
+        raise ValueError(f"up: unknown value '{up}' (expected x, y, z, -x, -y or -z)")
+    return _UP[up]
+
+
+def _mesh(args, rest, name):
+    """Splits (mesh, *rest) or (vertices, faces, *rest) into a Mesh and rest."""
+    if args and isinstance(args[0], Mesh):
+        mesh, tail = args[0], args[1:]
+    elif len(args) >= 2:
+        mesh, tail = Mesh(args[0], args[1]), args[2:]
+    else:
+        raise TypeError(f"{name}() takes a Mesh or vertices, faces first")
+    if len(tail) != rest:
+        raise TypeError(f"{name}() takes (mesh, {rest} more) or (vertices, faces, {rest} more) "
+                        f"positional arguments")
+    return (mesh,) + tuple(tail)
+
+
+# ---- Reading ---------------------------------------------------------------
+
+def read_mesh(path):
+    """Read a mesh (.obj, .ply, .off, .stl) into a texbake.Mesh.
+
+    The Mesh has `vertices` (n, 3) float64, `faces` (m, k) int64 (None when
+    the polygons have different corner counts: see face_offsets and
+    face_vertices), `triangles` (t, 3) int64 (the triangulation without
+    degenerate triangles), and when present `uvs` (a table, (u, 2)) with
+    `corner_uvs` (an index per corner of face_vertices), `normals` with
+    `corner_normals`, `colors` (n, 4) float32, `texture_path` (OBJ map_Kd),
+    and `issues` (degenerate triangles, unreferenced vertices, non-manifold
+    edges). Errors: OSError naming the file (and line).
+    """
+    return _texbake.read_mesh(_os.fspath(path))
+
+
+def read_image(path):
+    """Read an image (anything OpenImageIO reads) as (h, w, 4) float32 RGBA.
+
+    Top row first; integer formats scaled to [0, 1]; 1 and 2 channel images
+    become grey RGB(A); no colour-space conversion. Errors: OSError.
+    """
+    return _texbake.read_image(_os.fspath(path))
+
+
+# ---- Proxies ---------------------------------------------------------------
+
+class Proxy:
+    """A validated proxy shape (SPEC section 2). Build one with a constructor
+    per kind (Proxy.sphere, .cylinder, .cone, .disk, .quad, .plane),
+    Proxy.from_json(path or dict) or texbake.fit(). Vectors need not be
+    unit; an equator not given is the first of +X, +Y, +Z not parallel to the
+    pole/axis/normal. Invalid geometry raises ValueError naming the key.
+    """
+
+    def __init__(self, native):
+        self._native = native
+
+    @property
+    def kind(self):
+        """'sphere', 'cylinder', 'cone', 'disk', 'quad' or 'plane'."""
+        return self._native.kind
+
+    @property
+    def fitted(self):
+        """Keys fitted to the mesh by texbake.fit (empty otherwise)."""
+        return list(self._native.fitted)
+
+    def to_dict(self):
+        """The proxy as its JSON object (vectors unit, equator filled in)."""
+        return _json.loads(self._native.to_json())
+
+    def to_json(self):
+        """The proxy as one line of JSON (what `texbake fit` writes)."""
+        return self._native.to_json()
+
+    def write(self, path):
+        """Write the proxy as a JSON file for --proxy-file (atomically)."""
+        self._native.write(_os.fspath(path))
+
+    def __repr__(self):
+        return f"texbake.Proxy({self.to_json()})"
+
+    def __eq__(self, other):
+        return isinstance(other, Proxy) and self.to_dict() == other.to_dict()
+
+    @staticmethod
+    def _make(kind, up=None, **values):
+        return Proxy(_texbake.make_proxy(kind, values, _up(up)))
+
+    @staticmethod
+    def sphere(center=(0, 0, 0), radius=1.0, pole=None, equator=None, up=None):
+        """Sphere: u the azimuth around `pole` from `equator`, v = phi / pi
+        (0 at -pole, 1 at +pole). pole defaults to `up` (default +Z)."""
+        return Proxy._make("sphere", up, center=center, radius=radius, pole=pole, equator=equator)
+
+    @staticmethod
+    def cylinder(base, radius, height, axis=None, equator=None, up=None):
+        """Cylinder from `base` (v = 0) along `axis` (v = 1 at base + height*axis)."""
+        return Proxy._make("cylinder", up, base=base, axis=axis, equator=equator,
+                           radius=radius, height=height)
+
+    @staticmethod
+    def cone(apex, height, radius, axis=None, equator=None, up=None):
+        """Cone: `axis` points from the base centre to `apex` (v = 1 there, 0 on the rim)."""
+        return Proxy._make("cone", up, apex=apex, axis=axis, equator=equator,
+                           height=height, radius=radius)
+
+    @staticmethod
+    def disk(center, radius, normal=None, equator=None, up=None):
+        """Disk: u the azimuth around `normal`, v = r / radius."""
+        return Proxy._make("disk", up, center=center, normal=normal, equator=equator,
+                           radius=radius)
+
+    @staticmethod
+    def quad(corners):
+        """Convex planar quad, corners p00, p10, p11, p01 (u: p00->p10, v: p00->p01)."""
+        return Proxy._make("quad", corners=corners)
+
+    @staticmethod
+    def plane(origin, u_axis, v_axis):
+        """Plane: P = origin + u u_axis + v v_axis (the axes' lengths are the image's extent)."""
+        return Proxy._make("plane", origin=origin, u_axis=u_axis, v_axis=v_axis)
+
+    @staticmethod
+    def from_json(source):
+        """A proxy from a JSON file path or a dict such as
+        {"kind": "sphere", "center": [0, 0, 0], "radius": 1, "pole": [0, 0, 1]}.
+        Errors name the file (or "proxy JSON") and key: OSError for a file
+        that cannot be read or whose content is wrong, as --proxy-file."""
+        if isinstance(source, dict):
+            return Proxy(_texbake.proxy_from_json(_json.dumps(source), "proxy JSON"))
+        return Proxy(_texbake.read_proxy_file(_os.fspath(source)))
+
+
+def fit(*mesh_kind, up="z", threads=0, **given):
+    """fit(mesh, kind, up='z', **given) or fit(vertices, faces, kind, ...):
+    the proxy of `kind` ('sphere', 'cylinder', ...) fitted to the mesh (SPEC
+    section 6, as `texbake fit` and `bake` without every geometry flag):
+    given values (by JSON key, e.g. center=(0, 0, 0)) are kept and the rest
+    is fitted around them; `up` is the pole / the axis line hint. Errors:
+    ValueError (a bad given value), OSError (the mesh cannot be fitted)."""
+    mesh, kind = _mesh(mesh_kind, 1, "fit")
+    return Proxy(_texbake.fit(mesh, kind, given, _up(up), threads))
+
+
+def map(proxy, points):  # noqa: A001 (the command's name)
+    """The inverse mapping of `proxy` at `points` (n, 3), vectorised (`texbake map`).
+
+    Returns (uv (n, 2) float64, status (n,) int8, direction (n, 3) float64):
+    status codes index texbake.STATUS (0 ok, 1 outside, 2 undefined);
+    direction is d(P), the unit vector from P towards the projector.
+    """
+    return _texbake.map(proxy._native, points)
+
+
+# ---- Bakes -----------------------------------------------------------------
+
+def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first",
+                occluded="fill", outside="clamp", linear=False, wrap="clamp", threads=0,
+                progress=None):
+    """bake_vertex(mesh, image, proxy, ...) or bake_vertex(vertices, faces, image, proxy, ...):
+    one colour per vertex (`texbake bake ... --target vertex`).
+
+    image: (h, w, c) array (float32 RGBA C-contiguous is used without a
+    copy; uint8/uint16 are scaled to [0, 1]). Options as the command line's:
+    filter 'area' | 'bilinear', samples (1..65536, area only), visibility
+    'first' | 'all', occluded 'fill' | 'project' | (r, g, b[, a]), outside
+    'clamp' | (r, g, b[, a]), linear, wrap 'clamp' | 'repeat' (plane only).
+    Returns (colors (n, 4) float32 in the input's vertex order, stats dict:
+    counts, timings in seconds, warnings). Progress stages: 'bake', 'fill'.
+    """
+    mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_vertex")
+    return _texbake.bake_vertex(mesh, image, proxy._native, filter, samples, visibility,
+                                occluded, outside, linear, wrap, threads, progress)
+
+
+def bake_atlas(*mesh_image_proxy, uv="auto", size=2048, samples=4, padding=None,
+               visibility="first", occluded="fill", outside="clamp", linear=False,
+               wrap="clamp", threads=0, progress=None):
+    """bake_atlas(mesh, image, proxy, ...) or bake_atlas(vertices, faces, image, proxy, ...):
+    a texture atlas (`texbake bake ... --target atlas`).
+
+    uv 'auto' | 'mesh' | 'generate' | 'proxy'; size N (1..16384); samples
+    per texel (1..256); padding None (8 at 2048, scaled), a count, or 'inf';
+    the shading options as bake_vertex's. Returns a texbake.Atlas: `image`
+    (N, N, 4) float32, `mesh` (the mesh with the per-corner UVs baked
+    against: its `uvs` and `corner_uvs`), `uvs`/`face_uvs` of that mesh,
+    `stats`, `uv_layout`, `repeat_u`; it unpacks as
+    image, uvs, face_uvs, stats. write_atlas() writes it.
+    Progress stages: 'uv_layout', 'sample'.
+    """
+    mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_atlas")
+    return _texbake.bake_atlas(mesh, image, proxy._native, uv, size, samples, padding,
+                               visibility, occluded, outside, linear, wrap, threads, progress)
+
+
+def _atlas_face_uvs(atlas):
+    m = atlas.mesh
+    return m.corner_uvs.reshape(-1, 3) if m.faces is not None else m.corner_uvs
+
+
+def _atlas_iter(atlas):
+    return iter((atlas.image, atlas.mesh.uvs, _atlas_face_uvs(atlas), atlas.stats))
+
+
+Atlas.uvs = property(lambda a: a.mesh.uvs, doc="The UV table (u, 2) of the atlas' mesh.")
+Atlas.face_uvs = property(_atlas_face_uvs,
+                          doc="Per face corner, indices into uvs ((m, 3) for triangles).")
+Atlas.__iter__ = _atlas_iter
+
+
+def render(*mesh, colors="auto", texture=None, proxy=None, atlas_image=None, outside="clamp",
+           wrap="clamp", linear=False, size=(512, 512), view=(0, 20), views=1, shadows=False,
+           samples=4, up="z", flat=False, background=None, threads=0, progress=None):
+    """render(mesh, ...) or render(vertices, faces, ...): a Phong-shaded,
+    ray-traced preview (`texbake render`). Colours: with texture and proxy,
+    the direct projection at every hit (the ground truth); else colors
+    'auto' (atlas_image through the mesh's UVs if given, else vertex
+    colours, else grey), 'vertex', 'atlas', 'none'. size (w, h), view
+    (azimuth, elevation) degrees, views (a contact sheet), samples per pixel.
+    Returns (image (h, w, 4) float32, stats)."""
+    (m,) = _mesh(mesh, 0, "render")
+    return _texbake.render(m, colors, texture, None if proxy is None else proxy._native,
+                           atlas_image, outside, wrap, linear, size[0], size[1], view[0], view[1],
+                           views, shadows, samples, _up(up), flat, background, threads, progress)
+
+
+def compare(a, b, mask_background=False, background=None):
+    """PSNR and largest difference of two images (`texbake compare`): file
+    paths or (h, w, c) arrays. Returns a dict: width, height, channels,
+    compared_pixels, rms, psnr (dB, inf when equal), max_difference, max_x,
+    max_y, max_channel."""
+    if isinstance(a, _os.PathLike):
+        a, b = _os.fspath(a), _os.fspath(b)
+    return _texbake.compare(a, b, mask_background, background)
+
+
+# ---- Writing ---------------------------------------------------------------
+
+def write_vertex_colors(path, mesh, colors, ascii=False, up="z"):
+    """Write `mesh` with per-vertex `colors` (n, 3|4) by extension: .ply
+    (binary, or ascii=True), .obj (v x y z r g b), .glb (COLOR_0, linear;
+    its node matrix turns `up` to glTF's +Y, as `bake --up`). Atomic. The
+    same bytes as `texbake bake -o path`. `mesh` may be (vertices, faces)."""
+    if not isinstance(mesh, Mesh):
+        mesh = Mesh(*mesh)
+    _texbake.write_vertex_colors(_os.fspath(path), mesh, colors, ascii, _up(up))
+
+
+def write_atlas(path, atlas, format="png8", up="z"):
+    """Write an Atlas: .obj (+ .mtl + the atlas image beside it; format
+    'png8' | 'png16' | 'exr') or .glb (embedded PNG; `up` as in
+    write_vertex_colors). The set is replaced all together or not at all.
+    atlas_files(path, format) names the files."""
+    _texbake.write_atlas(_os.fspath(path), atlas, format, _up(up))
+
+
+def atlas_files(path, format="png8"):
+    """The files write_atlas(path, ...) writes, the mesh file first."""
+    return _texbake.atlas_files(_os.fspath(path), format)
+
+
+def write_image(path, image, bits=8, compression=6):
+    """Write an (h, w, c) image atomically, the format by extension: PNG
+    8-bit (bits=8) or 16-bit (bits=16), EXR float (bits=32); values clamped
+    to [0, 1] for integer formats; `compression` is PNG's zlib level 0..9."""
+    _texbake.write_image(_os.fspath(path), image, bits, compression)
