@@ -47,6 +47,7 @@ std::unique_ptr<CliApp> make_cli_app() {
   add(add_render_command);
   add(add_compare_command);
   add(add_info_command);
+  add(add_cameras_command);
   return cli;
 }
 

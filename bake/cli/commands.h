@@ -21,6 +21,7 @@ RunFunction add_fit_command(CLI::App& app);
 RunFunction add_render_command(CLI::App& app);
 RunFunction add_compare_command(CLI::App& app);
 RunFunction add_info_command(CLI::App& app);
+RunFunction add_cameras_command(CLI::App& app);
 
 // The exit code of an error, by its category (texbake/texbake.h): 2 for
 // kUsage, 1 for kInput, kInternal and kCancelled (SPEC section 5). The one
