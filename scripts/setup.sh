@@ -7,7 +7,8 @@
 #                                    targets (all when none is given)
 # texbake_build_packages are what the library and the `texbake` executable
 # build with (the demo needs only these); texbake_test_packages are added for
-# the test suite, the benchmarks and the fuzzers.
+# the test suite, the benchmarks and the fuzzers; texbake_peer_packages are
+# the peers bench/peers/run.sh compares with.
 set -euo pipefail
 
 TEXBAKE_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -29,6 +30,10 @@ texbake_test_packages=(
 # into the build folder). Debian's npm only when no npm came with Node.js
 # (NodeSource's nodejs ships its own and conflicts with Debian's).
 if ! command -v npm >/dev/null 2>&1; then texbake_test_packages+=(npm); fi
+# The peers bench/peers/run.sh times texbake against (by hand, not the suite).
+texbake_peer_packages=(
+  meshlab blender xvfb xauth
+)
 
 texbake_install_packages() {
   local missing=()

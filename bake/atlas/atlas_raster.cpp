@@ -165,6 +165,7 @@ Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRaster
   AtlasBands bands;
   bands.size_ = n;
   bands.samples_ = spt;
+  bands.overlaps_ = options.overlap_candidates;
 
   // Triangle corners in pixel space (SPEC section 1 via pixel_from_uv), and
   // validation: the first bad triangle is reported.
@@ -248,6 +249,10 @@ void AtlasBands::rasterize(std::size_t band, AtlasRaster& out, AtlasBandScratch&
   out.sample_triangle.clear();
   out.sample_b1.clear();
   out.sample_b2.clear();
+  out.alt_sample.clear();
+  out.alt_triangle.clear();
+  out.alt_b1.clear();
+  out.alt_b2.clear();
   out.border_samples = 0;
 
   std::vector<uint32_t>& pair_texel = scratch.pair_texel;
@@ -299,6 +304,17 @@ void AtlasBands::rasterize(std::size_t band, AtlasRaster& out, AtlasBandScratch&
       for (uint32_t k = c0; k < c1; ++k) {
         if (contains(px[cand[k]], q, &b1, &b2)) {
           chosen = cand[k];
+          if (overlaps_) {
+            const auto sample = static_cast<uint32_t>(out.sample_triangle.size());
+            for (uint32_t j = k + 1; j < c1; ++j) {
+              double a1 = 0, a2 = 0;
+              if (!contains(px[cand[j]], q, &a1, &a2)) continue;
+              out.alt_sample.push_back(sample);
+              out.alt_triangle.push_back(cand[j]);
+              out.alt_b1.push_back(static_cast<float>(a1));
+              out.alt_b2.push_back(static_cast<float>(a2));
+            }
+          }
           break;
         }
       }
@@ -347,6 +363,12 @@ Expected<AtlasRaster> rasterize_atlas(const MeshData& mesh, const AtlasRasterOpt
   raster.sample_b1.reserve(sample_total);
   raster.sample_b2.reserve(sample_total);
   for (AtlasRaster& r : results) {
+    const auto sample_base = static_cast<uint32_t>(raster.sample_triangle.size());
+    for (uint32_t s : r.alt_sample) raster.alt_sample.push_back(sample_base + s);
+    raster.alt_triangle.insert(raster.alt_triangle.end(), r.alt_triangle.begin(),
+                               r.alt_triangle.end());
+    raster.alt_b1.insert(raster.alt_b1.end(), r.alt_b1.begin(), r.alt_b1.end());
+    raster.alt_b2.insert(raster.alt_b2.end(), r.alt_b2.begin(), r.alt_b2.end());
     raster.texels.insert(raster.texels.end(), r.texels.begin(), r.texels.end());
     raster.sample_triangle.insert(raster.sample_triangle.end(), r.sample_triangle.begin(),
                                   r.sample_triangle.end());

@@ -12,7 +12,8 @@
 //
 // Samples: each covered texel gets `samples` points in a fixed stratified
 // pattern inside the texel (sample_offset()). A sample takes the lowest-index
-// triangle that contains it; a sample inside no triangle (a texel on a chart's
+// triangle that contains it (the others are listed with
+// AtlasRasterOptions::overlap_candidates); a sample inside no triangle (a texel on a chart's
 // border) takes the nearest point of the nearest candidate triangle (those
 // whose dilated footprint covers the texel; ties: lowest index), so border
 // texels continue the surface instead of staying black.
@@ -39,6 +40,11 @@ inline constexpr int kMaxAtlasSamples = 256;
 struct AtlasRasterOptions {
   int size = 2048;  // atlas width and height in texels, 1 .. kMaxAtlasSize
   int samples = 4;  // supersamples per covered texel, 1 .. kMaxAtlasSamples
+  // Also list, for each sample inside two or more triangles (an overlapping
+  // layout: --uv proxy on a non-star-shaped mesh, --uv mesh with shared UVs),
+  // the further triangles that contain it (AtlasRaster::alt_*), so that the
+  // bake can choose the visible one. Off: the scan stops at the first.
+  bool overlap_candidates = false;
 };
 
 struct AtlasRaster {
@@ -51,6 +57,14 @@ struct AtlasRaster {
   std::vector<float> sample_b1;           // barycentric weight of the triangle's 2nd corner
   std::vector<float> sample_b2;           // ... of its 3rd corner; the 1st gets 1 - b1 - b2
   std::size_t border_samples = 0;         // samples inside no triangle (clamped onto one)
+  // With AtlasRasterOptions::overlap_candidates: entry a says that sample
+  // alt_sample[a] (an index into the per-sample arrays; ascending, and for
+  // one sample its triangles ascending) lies also inside triangle
+  // alt_triangle[a] (index > sample_triangle's), at barycentrics alt_b1[a],
+  // alt_b2[a]. Empty otherwise.
+  std::vector<uint32_t> alt_sample;
+  std::vector<uint32_t> alt_triangle;
+  std::vector<float> alt_b1, alt_b2;
 
   std::size_t sample_count() const { return sample_triangle.size(); }
 };
@@ -115,6 +129,7 @@ class AtlasBands {
  private:
   int size_ = 0;
   int samples_ = 0;
+  bool overlaps_ = false;                    // AtlasRasterOptions::overlap_candidates
   std::vector<std::array<PixelPos, 3>> px_;  // corners in continuous pixel coordinates
   std::vector<int> row_lo_, row_hi_;         // dilated row range per triangle (lo > hi: none)
   std::vector<uint32_t> band_start_;         // CSR over band_tris_

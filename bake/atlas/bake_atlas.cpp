@@ -101,13 +101,28 @@ Vec3 sample_point(const MeshData& mesh, uint32_t t, float b1, float b2) {
 // Texels [begin, end) of w.band: maps, traces and samples their samples and
 // stores each texel's mean in the atlas. A texel's sum is the coloured
 // samples in sample order, then the filled ones in sample order (double).
+//
+// Samples with further candidate triangles (r.alt_*, an overlapping layout;
+// only listed when traced): each candidate's point is mapped and traced too
+// (after the samples' own rays in the batch), and a sample whose own
+// (lowest-index) triangle is occluded or undefined moves to the first
+// candidate, in ascending triangle index, whose point is visible and mapped,
+// if any: a texel shared by visible and hidden surfaces takes the visible
+// ones' colour. The choice depends only on the sample, never on the thread
+// count.
 template <class P>
 void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_t begin,
                  std::size_t end) {
-  const AtlasRaster& r = w.band;
+  AtlasRaster& r = w.band;
   const std::size_t spt = r.samples_per_texel;
   const std::size_t s0 = begin * spt, s1 = end * spt;
-  w.maps.resize(s1 - s0);
+  std::size_t a0 = 0, a1 = 0;  // r.alt_* entries of samples [s0, s1)
+  if (ctx.scene && !r.alt_sample.empty()) {
+    a0 = std::lower_bound(r.alt_sample.begin(), r.alt_sample.end(), s0) - r.alt_sample.begin();
+    a1 = std::lower_bound(r.alt_sample.begin(), r.alt_sample.end(), s1) - r.alt_sample.begin();
+  }
+  const std::size_t own = s1 - s0;  // maps/visible: own samples, then the candidates
+  w.maps.resize(own + (a1 - a0));
   w.batch.clear();
   for (std::size_t s = s0; s < s1; ++s) {
     const Vec3 p = sample_point(*ctx.mesh, r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]);
@@ -119,8 +134,34 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
       w.batch.add(p, m.status == MapStatus::kUndefined ? Vec3{0, 0, 1} : m.to_projector);
     }
   }
-  w.visible.assign(s1 - s0, 1);
+  for (std::size_t a = a0; a < a1; ++a) {
+    const Vec3 p = sample_point(*ctx.mesh, r.alt_triangle[a], r.alt_b1[a], r.alt_b2[a]);
+    MapResult& m = w.maps[own + (a - a0)];
+    m = proxy.inverse_map(p);
+    w.batch.add(p, m.status == MapStatus::kUndefined ? Vec3{0, 0, 1} : m.to_projector);
+  }
+  w.visible.assign(own + (a1 - a0), 1);
   if (ctx.scene) w.batch.trace(*ctx.scene, ctx.ray_offset, w.visible.data());
+  auto seen = [&](std::size_t i) {
+    return w.visible[i] != 0 && w.maps[i].status != MapStatus::kUndefined;
+  };
+  for (std::size_t a = a0; a < a1;) {
+    const std::size_t s = r.alt_sample[a];
+    std::size_t a_end = a;
+    while (a_end < a1 && r.alt_sample[a_end] == s) ++a_end;
+    if (!seen(s - s0)) {
+      for (std::size_t b = a; b < a_end; ++b) {
+        if (!seen(own + (b - a0))) continue;
+        w.maps[s - s0] = w.maps[own + (b - a0)];
+        w.visible[s - s0] = 1;
+        r.sample_triangle[s] = r.alt_triangle[b];
+        r.sample_b1[s] = r.alt_b1[b];
+        r.sample_b2[s] = r.alt_b2[b];
+        break;
+      }
+    }
+    a = a_end;
+  }
 
   ChunkCounts& counts = w.counts;
   for (std::size_t k = begin; k < end; ++k) {
@@ -190,7 +231,10 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   // rasterised and baked in one go below, so the samples of the whole atlas
   // (16 bytes each, 67M at 4096 with 4 samples) never exist at once.
   auto t0 = Clock::now();
-  Expected<AtlasBands> bands_or = AtlasBands::prepare(mesh, {options.size, options.samples});
+  // Candidate triangles of overlapping samples matter only when rays choose.
+  const bool overlaps = options.resolve_overlaps && sh.visibility == Visibility::kFirst;
+  Expected<AtlasBands> bands_or =
+      AtlasBands::prepare(mesh, {options.size, options.samples, overlaps});
   if (!bands_or) return bands_or.error();
   const AtlasBands& bands = *bands_or;
   const double prepare_seconds = seconds_since(t0);
@@ -344,6 +388,12 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
     const int rings = options.padding == kPaddingDefault ? default_padding(n) : options.padding;
     std::vector<uint8_t> mask = result.baked;
     result.counts.padded = dilate(result.atlas.pixels, mask, n, n, rings);
+    if (options.padding == kPaddingDefault) {
+      // The rest of the background: colour by the mip-safe push-pull from
+      // the charts and their rings, alpha 0 (coverage).
+      result.counts.padded +=
+          push_pull_fill(result.atlas.pixels, mask, n, n, PushPullMode::kMipSafe);
+    }
   }
   result.timings.pad = seconds_since(t0);
   return result;

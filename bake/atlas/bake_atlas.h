@@ -13,16 +13,27 @@
 //     (undefined ones have none: they are filled), kColor the constant, kFill
 //     the per-vertex inpainting of bake/vertex/occlusion_fill.h (through bake_vertex
 //     with the bilinear filter) interpolated barycentrically over the sample's
-//     triangle. A texel is the plain mean of its samples.
-//  3. pad (bake/atlas/dilate.h): `padding` rings of 8-neighbour dilation, or
-//     push-pull over the whole background for kPaddingInfinite.
+//     triangle. A texel is the plain mean of its samples. With
+//     resolve_overlaps a sample inside several triangles prefers a visible one.
+//  3. pad (bake/atlas/dilate.h, issue #11 item 4):
+//     - kPaddingDefault: default_padding(size) rings of 8-neighbour dilation
+//       (all four channels: the rings are opaque), then push-pull of the
+//       colour over the rest of the background with alpha 0
+//       (PushPullMode::kMipSafe). Every texel then holds a chart colour or a
+//       smooth continuation of the charts, so the box-filtered mip levels a
+//       client builds never average in black; alpha still says which texels
+//       are baked (or padding rings) for clients that use it;
+//     - N >= 0: N rings of dilation only, the rest transparent black (0 = none);
+//     - kPaddingInfinite: push-pull of all four channels over the whole
+//       background (an opaque atlas).
 // Stages 1 and 2 run band by band (AtlasBands, kAtlasBandRows rows at a
 // time, in parallel), so the samples of the whole atlas are never held at
 // once: memory is the atlas itself plus a band's samples per thread. With
 // kFill and visibility the fill is computed before the pass (sharing the
 // Embree scene); otherwise texels with undefined samples are finished after
 // it. The result equals the whole-atlas computation (atlas_stream_test.cpp).
-// Texels neither covered nor padded are transparent black (0, 0, 0, 0).
+// Covered texels are never changed by the padding. With an explicit N,
+// texels neither covered nor padded are transparent black (0, 0, 0, 0).
 // With options.shading.linear the image is linearised once, samples average
 // in linear and each texel is converted back to sRGB. Results do not depend
 // on the thread count.
@@ -43,13 +54,22 @@
 
 namespace texbake {
 
-inline constexpr int kPaddingDefault = -1;   // default_padding(size) (bake/atlas/dilate.h)
-inline constexpr int kPaddingInfinite = -2;  // push-pull fill of the whole background
+// default_padding(size) rings (bake/atlas/dilate.h), then push-pull colour, alpha 0
+inline constexpr int kPaddingDefault = -1;
+inline constexpr int kPaddingInfinite = -2;  // push-pull fill of the whole background, opaque
 
 struct AtlasBakeOptions {
   int size = 2048;                // texels per side, 1 .. kMaxAtlasSize
   int samples = 4;                // supersamples per covered texel, 1 .. kMaxAtlasSamples
   int padding = kPaddingDefault;  // texels of dilation (>= 0), or one of the constants above
+  // An overlapping layout (texels under several UV triangles: --uv proxy on a
+  // mesh that is not star-shaped as seen from the projector, --uv mesh with
+  // shared UVs): with Visibility::kFirst, a sample inside several triangles
+  // takes the lowest-index one whose point the projector sees (if none does,
+  // the lowest-index one, as without), so shared texels take the visible
+  // surface's colour. Costs a full candidate scan per sample and a ray per
+  // further candidate; bake_atlas_texture sets it when the layout overlaps.
+  bool resolve_overlaps = false;
   // visibility, occluded (+ colour), outside (+ colour), linear, plane_wrap;
   // filter and samples are not used by the atlas.
   VertexBakeOptions shading;

@@ -122,32 +122,30 @@ std::size_t dilate(std::span<float> rgba, std::span<uint8_t> baked, int width, i
   return filled;
 }
 
+// Level 0 is the image itself (read through `rgba` and `baked`, written
+// in place), so the pyramid costs a third of the image's texels, not 4/3:
+// at 16384 a copy of level 0 alone would be 5 GB. Every level is computed
+// row-parallel from the one before, each texel from its own inputs only, so
+// the result does not depend on the thread count. Work: linear in texels.
 std::size_t push_pull_fill(std::span<float> rgba, std::span<const uint8_t> baked, int width,
-                           int height) {
+                           int height, PushPullMode mode) {
   const std::size_t count = static_cast<std::size_t>(width) * height;
   assert(rgba.size() >= count * 4 && baked.size() >= count);
-  std::size_t holes = 0, baked_count = 0;
-  for (std::size_t i = 0; i < count; ++i) (baked[i] ? baked_count : holes) += 1;
+  const std::size_t baked_count =
+      count - static_cast<std::size_t>(std::count(baked.begin(), baked.begin() + count, 0));
+  const std::size_t holes = count - baked_count;
   if (baked_count == 0 || holes == 0) return 0;
 
-  // Level 0 is the image with weights 0 / 1.
-  std::vector<Level> levels(1);
-  levels[0].w = width;
-  levels[0].h = height;
-  levels[0].c.resize(count);
-  levels[0].wt.resize(count);
-  for (std::size_t i = 0; i < count; ++i) {
-    levels[0].wt[i] = baked[i] ? 1.f : 0.f;
-    for (int c = 0; c < 4; ++c) levels[0].c[i][c] = baked[i] ? rgba[i * 4 + c] : 0.f;
-  }
-
   // Pull: each coarser texel is the weighted mean of its (up to) 2 x 2
-  // children; its weight is their summed weight, clamped to 1.
-  while (levels.back().w > 1 || levels.back().h > 1) {
-    const Level& fine = levels.back();
+  // children; its weight is their summed weight, clamped to 1. Level 0's
+  // weights are 1 (baked) or 0.
+  std::vector<Level> levels;  // levels[k] is level k + 1
+  int fw = width, fh = height;
+  while (fw > 1 || fh > 1) {
+    const Level* fine = levels.empty() ? nullptr : &levels.back();
     Level coarse;
-    coarse.w = (fine.w + 1) / 2;
-    coarse.h = (fine.h + 1) / 2;
+    coarse.w = (fw + 1) / 2;
+    coarse.h = (fh + 1) / 2;
     coarse.c.assign(static_cast<std::size_t>(coarse.w) * coarse.h, {0, 0, 0, 0});
     coarse.wt.assign(coarse.c.size(), 0.f);
     parallel_for_chunks(coarse.h, kRowGrain, [&](std::size_t y_begin, std::size_t y_end) {
@@ -156,61 +154,96 @@ std::size_t push_pull_fill(std::span<float> rgba, std::span<const uint8_t> baked
           double sw = 0, sc[4] = {0, 0, 0, 0};
           for (int dy = 0; dy < 2; ++dy) {
             for (int dx = 0; dx < 2; ++dx) {
-              const int fx = 2 * x + dx, fy = 2 * y + dy;
-              if (fx >= fine.w || fy >= fine.h) continue;
-              const std::size_t j = static_cast<std::size_t>(fy) * fine.w + fx;
-              const double w = fine.wt[j];
+              const int cx = 2 * x + dx, cy = 2 * y + dy;
+              if (cx >= fw || cy >= fh) continue;
+              const std::size_t j = static_cast<std::size_t>(cy) * fw + cx;
+              const double w = fine ? fine->wt[j] : (baked[j] ? 1.0 : 0.0);
+              if (w == 0) continue;
+              const float* c = fine ? fine->c[j].data() : &rgba[j * 4];
               sw += w;
-              for (int c = 0; c < 4; ++c) sc[c] += w * fine.c[j][c];
+              for (int ch = 0; ch < 4; ++ch) sc[ch] += w * c[ch];
             }
           }
           const std::size_t i = static_cast<std::size_t>(y) * coarse.w + x;
           if (sw > 0) {
-            for (int c = 0; c < 4; ++c) coarse.c[i][c] = static_cast<float>(sc[c] / sw);
+            for (int ch = 0; ch < 4; ++ch) coarse.c[i][ch] = static_cast<float>(sc[ch] / sw);
           }
           coarse.wt[i] = static_cast<float>(std::min(1.0, sw));
         }
       }
     });
+    fw = coarse.w;
+    fh = coarse.h;
     levels.push_back(std::move(coarse));
   }
 
-  // Push: from the coarsest level down, blend each texel with the bilinear
-  // upsampling of the (already filled) coarser level: c = w c + (1 - w) up.
-  // Fine texel x sits at coarse position (x + 0.5) / 2 - 0.5; edges clamp.
-  for (int k = static_cast<int>(levels.size()) - 2; k >= 0; --k) {
-    Level& fine = levels[k];
-    const Level& coarse = levels[k + 1];
-    parallel_for_chunks(fine.h, kRowGrain, [&](std::size_t y_begin, std::size_t y_end) {
+  // Push, from the coarsest level down. Fine texel x sits at coarse
+  // position (x + 0.5) / 2 - 0.5; edges clamp. Holes (weight < 1; level-0
+  // holes have weight 0) become c = w c + (1 - w) up, where up is:
+  //  - kOpaque: the bilinear upsampling of the (already filled) coarser level;
+  //  - kMipSafe: if x's parent holds data (weight > 0), the bilinear
+  //    upsampling over those of the four coarse texels that hold data
+  //    (weights renormalised; the parent is one of them), else the parent's
+  //    filled value. So a hole takes its value from the first level up where
+  //    its ancestor holds data, from that ancestor and its data-holding
+  //    neighbours only: inside any 2^k-aligned block that holds baked texels,
+  //    every filled value is a convex combination of baked texels of that
+  //    block and its 8 neighbours, and the block's box mean (its mip texel)
+  //    stays within their range. The plain bilinear push can draw from
+  //    farther (a neighbour filled from much coarser levels).
+  for (int k = static_cast<int>(levels.size()) - 1; k >= 0; --k) {
+    Level* fine = k > 0 ? &levels[k - 1] : nullptr;
+    const Level& coarse = levels[k];
+    const int w_fine = fine ? fine->w : width, h_fine = fine ? fine->h : height;
+    parallel_for_chunks(h_fine, kRowGrain, [&](std::size_t y_begin, std::size_t y_end) {
       for (int y = static_cast<int>(y_begin); y < static_cast<int>(y_end); ++y) {
-        for (int x = 0; x < fine.w; ++x) {
-          const std::size_t i = static_cast<std::size_t>(y) * fine.w + x;
-          const float w = fine.wt[i];
+        for (int x = 0; x < w_fine; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * w_fine + x;
+          const float w = fine ? fine->wt[i] : (baked[i] ? 1.f : 0.f);
           if (w >= 1) continue;
+          float* out = fine ? fine->c[i].data() : &rgba[i * 4];
           const double cx = (x + 0.5) / 2 - 0.5, cy = (y + 0.5) / 2 - 0.5;
           const int x0 = static_cast<int>(std::floor(cx)), y0 = static_cast<int>(std::floor(cy));
           const double fx = cx - x0, fy = cy - y0;
-          auto at = [&](int xx, int yy) -> const std::array<float, 4>& {
+          auto index = [&](int xx, int yy) {
             xx = std::clamp(xx, 0, coarse.w - 1);
             yy = std::clamp(yy, 0, coarse.h - 1);
-            return coarse.c[static_cast<std::size_t>(yy) * coarse.w + xx];
+            return static_cast<std::size_t>(yy) * coarse.w + xx;
           };
-          const auto &c00 = at(x0, y0), &c10 = at(x0 + 1, y0), &c01 = at(x0, y0 + 1),
-                     &c11 = at(x0 + 1, y0 + 1);
-          for (int c = 0; c < 4; ++c) {
-            const double top = c00[c] + fx * (c10[c] - c00[c]);
-            const double bottom = c01[c] + fx * (c11[c] - c01[c]);
-            const double up = top + fy * (bottom - top);
-            fine.c[i][c] = static_cast<float>(w * fine.c[i][c] + (1 - w) * up);
+          const std::size_t corner[4] = {index(x0, y0), index(x0 + 1, y0), index(x0, y0 + 1),
+                                         index(x0 + 1, y0 + 1)};
+          double bw[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+          const std::size_t parent = static_cast<std::size_t>(y / 2) * coarse.w + x / 2;
+          const bool inherit = mode == PushPullMode::kMipSafe && coarse.wt[parent] == 0;
+          if (mode == PushPullMode::kMipSafe && !inherit) {
+            double sum = 0;
+            for (int q = 0; q < 4; ++q) {
+              if (coarse.wt[corner[q]] == 0) bw[q] = 0;
+              sum += bw[q];
+            }
+            for (double& b : bw) b /= sum;  // sum > 0: the parent is a corner
           }
+          for (int ch = 0; ch < 4; ++ch) {
+            double up = 0;
+            if (inherit) {
+              up = coarse.c[parent][ch];
+            } else if (mode == PushPullMode::kOpaque) {
+              // The bilinear form of the original implementation (same bits).
+              const double top = coarse.c[corner[0]][ch] +
+                                 fx * (coarse.c[corner[1]][ch] - coarse.c[corner[0]][ch]);
+              const double bottom = coarse.c[corner[2]][ch] +
+                                    fx * (coarse.c[corner[3]][ch] - coarse.c[corner[2]][ch]);
+              up = top + fy * (bottom - top);
+            } else {
+              for (int q = 0; q < 4; ++q) up += bw[q] * coarse.c[corner[q]][ch];
+            }
+            const double own = fine ? fine->c[i][ch] : 0.0;
+            out[ch] = static_cast<float>(w * own + (1 - w) * up);
+          }
+          if (!fine && mode == PushPullMode::kMipSafe) out[3] = 0.f;
         }
       }
     });
-  }
-
-  for (std::size_t i = 0; i < count; ++i) {
-    if (baked[i]) continue;
-    for (int c = 0; c < 4; ++c) rgba[i * 4 + c] = levels[0].c[i][c];
   }
   return holes;
 }

@@ -20,8 +20,10 @@ void add_atlas_flags(CLI::App& bake, AtlasFlags& flags) {
   bake.add_option(
           "--padding", flags.padding,
           "atlas target: texels of dilation into the gutter, or 'inf' for push-pull over "
-          "the whole background (default: 8 at 2048, scaled with --size, at least 1; an explicit "
-          "N is taken as is, 0 = no dilation)")
+          "the whole background, alpha included (default: 8 at 2048, scaled with --size, at "
+          "least 1, then push-pull of the colour over the rest of the background with alpha 0, "
+          "so mipmaps never average in black; an explicit N is taken as is and leaves the rest "
+          "transparent black, 0 = no dilation)")
       ->type_name("N|inf");
   add_choice_option(
       bake, "--uv", flags.uv,
@@ -31,7 +33,9 @@ void add_atlas_flags(CLI::App& bake, AtlasFlags& flags) {
        {"proxy", UvLayout::kProxy}},
       "atlas target UV layout: auto (default: mesh if the mesh has UVs, else generate), "
       "mesh (its own UVs), generate (new non-overlapping charts) or proxy (the proxy's "
-      "(u, v), cut at its seam)");
+      "(u, v), cut at its seam; suits meshes that are star-shaped as seen from the proxy's "
+      "centre, axis or plane: surfaces behind one another share texels, which are counted, "
+      "warned about and take the visible surface's colour)");
   add_choice_option(
       bake, "--format", flags.format,
       {{"png8", AtlasFormat::kPng8}, {"png16", AtlasFormat::kPng16}, {"exr", AtlasFormat::kExr}},

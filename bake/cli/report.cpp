@@ -55,6 +55,7 @@ ordered_json atlas_json(const AtlasReport& a, const Stats& stats, double write) 
     j["uv_check"] = {{"corners_outside", a.uv.corners_outside},
                      {"overlap_texels", a.uv.overlap_texels}};
   } else if (a.uv.used == UvLayout::kProxy) {
+    j["uv_check"] = {{"overlap_texels", a.uv.overlap_texels}};
     j["cut_triangles"] = a.uv.cut_triangles;
   } else {
     j["charts"] = a.uv.charts;

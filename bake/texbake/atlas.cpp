@@ -78,7 +78,10 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
     Timings& t = atlas.stats.timings;
     t.uv_layout = seconds_since(t0);
 
-    Expected<AtlasBakeResult> baked = bake_atlas(atlas.mesh, image, proxy, bo, &progress);
+    AtlasBakeOptions with_overlaps = bo;
+    with_overlaps.resolve_overlaps = atlas.uv.overlap_texels > 0;
+    Expected<AtlasBakeResult> baked =
+        bake_atlas(atlas.mesh, image, proxy, with_overlaps, &progress);
     if (!baked) return detail::as_input(baked.error());
     if (progress.cancelled()) return cancelled_error();  // a false at the very end counts too
     atlas.image = std::move(baked->atlas);

@@ -245,8 +245,12 @@ struct Atlas {
 
 // The whole atlas pipeline: UV layout (bake/uv/uv_layout.h, with the gutter
 // rule: generated charts at least kMinGutter texels apart), bake
-// (bake/atlas/bake_atlas.h), padding. Warnings of the layout (UVs outside
-// [0, 1], overlaps, stretched pole triangles) are in stats.warnings.
+// (bake/atlas/bake_atlas.h), padding (by default rings, then a mip-safe
+// push-pull of the colour with alpha 0). Warnings of the layout (UVs outside
+// [0, 1], overlaps, stretched pole triangles) are in stats.warnings. When
+// the layout overlaps (uv.overlap_texels > 0: --uv mesh or --uv proxy), the
+// bake gives shared texels the visible surface's colour
+// (AtlasBakeOptions::resolve_overlaps, set here whatever options.bake says).
 // Errors: kUsage (options out of range, an image without pixels; kMesh on a
 // mesh without UVs), kInput (no non-degenerate triangle, a mesh the layout
 // cannot chart or whose UVs are unusable), kInternal, kCancelled. Progress

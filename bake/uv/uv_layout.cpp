@@ -1,6 +1,7 @@
 #include "bake/uv/uv_layout.h"
 
 #include <algorithm>
+#include <string>
 #include <utility>
 
 #include "bake/uv/uv_proxy.h"
@@ -30,6 +31,21 @@ Status check_uv_layout(const MeshData& mesh, UvLayout layout) {
   return ok_status();
 }
 
+namespace {
+
+// The overlap figure and warning of --uv mesh and --uv proxy (check_mesh_uvs
+// on the layout baked against).
+void check_overlaps(const MeshUvCheck& check, const char* consequence, UvLayoutResult& result) {
+  result.stats.overlap_texels = check.overlap_texels;
+  if (check.overlap_texels > 0) {
+    result.warnings.push_back(std::to_string(check.overlap_texels) +
+                              " atlas texels are covered by overlapping UV triangles; " +
+                              consequence);
+  }
+}
+
+}  // namespace
+
 Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
                                      const UvLayoutOptions& options) {
   if (Status s = check_uv_layout(mesh, options.uv); !s) return s.error();
@@ -41,16 +57,11 @@ Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
     case UvLayout::kMesh: {
       const MeshUvCheck check = check_mesh_uvs(mesh, options.atlas_size);
       result.stats.corners_outside = check.corners_outside;
-      result.stats.overlap_texels = check.overlap_texels;
       if (check.corners_outside > 0) {
         result.warnings.push_back(std::to_string(check.corners_outside) +
                                   " UV corners lie outside [0, 1]; their texels are not baked");
       }
-      if (check.overlap_texels > 0) {
-        result.warnings.push_back(std::to_string(check.overlap_texels) +
-                                  " atlas texels are covered by overlapping UV triangles; "
-                                  "overlapping parts share colours");
-      }
+      check_overlaps(check, "overlapping parts share colours", result);
       break;
     }
     case UvLayout::kProxy: {
@@ -62,6 +73,11 @@ Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
                                   " triangles contain a pole of the proxy and are stretched "
                                   "across the atlas");
       }
+      // Surfaces behind one another as seen from the proxy share (u, v).
+      check_overlaps(check_mesh_uvs(cut->mesh, options.atlas_size),
+                     "surfaces behind one another share (u, v) (the mesh is not star-shaped "
+                     "as seen from the proxy); the visible ones colour the shared texels",
+                     result);
       result.mesh = std::move(cut->mesh);
       result.repeat_u = wrap_u(proxy) == WrapMode::kRepeat;
       break;

@@ -6,7 +6,12 @@
 //    (bake/uv/uv_proxy.h): corners outside [0, 1] and texels covered by
 //    overlapping UV triangles are counted and each gives a warning.
 //  - kProxy cuts the mesh at the proxy's seam (proxy_uv_layout); triangles
-//    still spanning more than half the u range give a warning. The layout is
+//    still spanning more than half the u range give a warning, and so do
+//    texels covered by overlapping UV triangles (counted as for kMesh, by
+//    check_mesh_uvs on the cut mesh): a mesh that is not star-shaped as seen
+//    from the proxy (its centre, axis or plane) has surfaces behind one
+//    another at the same (u, v); the bake gives such texels the visible
+//    surface's colour (AtlasBakeOptions::resolve_overlaps). The layout is
 //    periodic in u when the proxy's u wraps.
 //  - kGenerate packs new charts (generate_uv_atlas) with a gutter of at
 //    least kMinGutter texels whatever the padding: each chart's conservative
@@ -40,7 +45,7 @@ inline constexpr int kMinGutter = 2;
 struct UvLayoutStats {
   UvLayout used = UvLayout::kMesh;  // kAuto resolved
   std::size_t corners_outside = 0;  // kMesh
-  std::size_t overlap_texels = 0;   // kMesh
+  std::size_t overlap_texels = 0;   // kMesh, kProxy
   std::size_t cut_triangles = 0;    // kProxy
   std::size_t charts = 0;           // kGenerate
   double utilisation = 0;           // kGenerate: covered / all texels

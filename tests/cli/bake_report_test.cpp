@@ -134,7 +134,7 @@ TEST_F(BakeReport, AtlasKeysInOrderForEachUvLayout) {
   };
   const std::vector<Layout> layouts = {
       {off, "generate", {"charts", "utilisation", "stretch_l2"}},
-      {off, "proxy", {"cut_triangles"}},
+      {off, "proxy", {"uv_check", "cut_triangles"}},
       {obj, "mesh", {"uv_check"}},
   };
   for (const Layout& l : layouts) {
@@ -174,12 +174,50 @@ TEST_F(BakeReport, LayoutFiguresByHand) {
   // A plane has no seam: nothing to cut.
   j = bake(off, "--size 32 --uv proxy", "p.obj");
   EXPECT_EQ(j["atlas"]["cut_triangles"], 0);
+  // ... and a flat mesh seen along the plane's normal has no overlap.
+  EXPECT_EQ(j["atlas"]["uv_check"], (ordered_json{{"overlap_texels", 0}}));
   // --padding inf is reported as "inf"; an explicit count as given.
   j = bake(off, "--size 32 --padding inf", "i.obj");
   EXPECT_EQ(j["atlas"]["padding"], "inf");
   j = bake(off, "--size 32 --padding 5", "f.obj");
   EXPECT_EQ(j["atlas"]["padding"], 5);
   EXPECT_EQ(j["atlas"]["uv"], "generate");  // --uv auto on a mesh without UVs
+}
+
+// --uv proxy on two unit squares one above the other along the plane's
+// normal (z = 0 first, then z = 1; each split along its diagonal u = v):
+// every texel is shared, except the 32 whose centres lie on the diagonal
+// (x + y = 31 in pixels), on an edge of both squares: 32 * 32 - 32 = 992
+// overlapping texels, by hand. The warning says so on stderr, the report
+// counts them.
+TEST_F(BakeReport, ProxyOverlapsAreWarnedAndCounted) {
+  const fs::path stacked = dir / "stacked.off";
+  {
+    std::ofstream o(stacked);
+    o << "OFF\n8 4 0\n";
+    for (int z = 0; z < 2; ++z)
+      o << "0 0 " << z << "\n1 0 " << z << "\n1 1 " << z << "\n0 1 " << z << "\n";
+    for (int q = 0; q < 2; ++q) {
+      const int a = 4 * q;
+      o << "3 " << a << " " << a + 1 << " " << a + 2 << "\n3 " << a << " " << a + 2 << " " << a + 3
+        << "\n";
+    }
+  }
+  const fs::path report = dir / "overlap.json";
+  const texbake::testing_cli::RunResult r = run_texbake(
+      "bake " + shell_quote(stacked.string()) + " --texture " + shell_quote(image.string()) +
+      " --proxy plane --origin 0,0,0 --u-axis 1,0,0 --v-axis 0,1,0 -q --uv proxy --size 32"
+      " --report " +
+      shell_quote(report.string()) + " -o " + shell_quote((dir / "s.obj").string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("texbake: warning: 992 atlas texels are covered by overlapping UV "
+                       "triangles"),
+            std::string::npos)
+      << r.err;
+  const ordered_json j = ordered_json::parse(slurp(report), nullptr, false);
+  EXPECT_EQ(j["atlas"]["uv_check"]["overlap_texels"], 992);
+  // The hidden square's samples move to the visible one's triangles.
+  EXPECT_EQ(j["atlas"]["counts"]["occluded"], 0);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/bake_atlas.h"
+#include "bake/atlas/dilate.h"
 #include "bake/util/parallel.h"
 #include "bake/uv/uv_proxy.h"
 #include "mesh_io/image_io.h"
@@ -246,19 +247,24 @@ TEST(AtlasBake, OccludedSamplesFollowTheOccludedMode) {
   }
 }
 
+// One triangle in the middle of a 64 x 64 atlas under the default plane.
+struct PaddingScene {
+  Image img = smooth_image(64, 32);
+  MeshData mesh = test::make_triangle_soup({{0, 0, 1}, {1, 0, 1}, {0, 1, 1}},
+                                           {{0.3f, 0.3f}, {0.6f, 0.3f}, {0.3f, 0.6f}});
+  Proxy plane = make_proxy(PlaneParams{}).value();
+  AtlasBakeResult bake(int padding) const {
+    AtlasBakeOptions o = options(64, 1);
+    o.padding = padding;
+    return bake_atlas(mesh, img.view(), plane, o).value();
+  }
+};
+
 TEST(AtlasBake, PaddingFillsTheGutterAndBakedTexelsStay) {
-  const Image img = smooth_image(64, 32);
-  const MeshData mesh = test::make_triangle_soup({{0, 0, 1}, {1, 0, 1}, {0, 1, 1}},
-                                                 {{0.3f, 0.3f}, {0.6f, 0.3f}, {0.3f, 0.6f}});
-  PlaneParams pp;
-  const Proxy plane = make_proxy(pp).value();
-  AtlasBakeOptions o = options(64, 1);
-  o.padding = 0;
-  auto none = bake_atlas(mesh, img.view(), plane, o).value();
-  o.padding = 3;
-  auto three = bake_atlas(mesh, img.view(), plane, o).value();
-  o.padding = kPaddingInfinite;
-  auto inf = bake_atlas(mesh, img.view(), plane, o).value();
+  const PaddingScene scene;
+  auto none = scene.bake(0);
+  auto three = scene.bake(3);
+  auto inf = scene.bake(kPaddingInfinite);
   std::size_t covered = 0;
   for (std::size_t t = 0; t < none.baked.size(); ++t) {
     covered += none.baked[t];
@@ -275,6 +281,46 @@ TEST(AtlasBake, PaddingFillsTheGutterAndBakedTexelsStay) {
   EXPECT_EQ(none.counts.padded, 0u);
   EXPECT_GT(three.counts.padded, 0u);
   EXPECT_EQ(inf.counts.padded, none.baked.size() - covered);
+}
+
+// The default padding (issue #11 item 4): covered texels as without
+// padding, the default_padding(size) rings as an explicit --padding of that
+// many (all four channels), every other texel alpha 0 with a colour inside
+// the range of the covered ones (push-pull of chart colours, never black).
+TEST(AtlasBake, DefaultPaddingIsRingsThenTransparentPushPull) {
+  const PaddingScene scene;
+  auto none = scene.bake(0);
+  auto rings = scene.bake(default_padding(64));
+  auto def = scene.bake(kPaddingDefault);
+  float lo[3] = {2, 2, 2}, hi[3] = {-1, -1, -1};
+  for (std::size_t t = 0; t < none.baked.size(); ++t) {
+    if (!none.baked[t]) continue;
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], none.atlas.pixels[t * 4 + c]);
+      hi[c] = std::max(hi[c], none.atlas.pixels[t * 4 + c]);
+    }
+  }
+  std::size_t ring_texels = 0;
+  for (std::size_t t = 0; t < none.baked.size(); ++t) {
+    const bool ring = !none.baked[t] && rings.atlas.pixels[t * 4 + 3] > 0;
+    ring_texels += ring;
+    for (int c = 0; c < 4; ++c) {
+      const float v = def.atlas.pixels[t * 4 + c];
+      if (none.baked[t]) {
+        EXPECT_EQ(v, none.atlas.pixels[t * 4 + c]) << t;
+      } else if (ring) {
+        EXPECT_EQ(v, rings.atlas.pixels[t * 4 + c]) << t;
+      } else if (c == 3) {
+        EXPECT_EQ(v, 0.f) << t;
+      } else {
+        EXPECT_GE(v, lo[c]) << t;
+        EXPECT_LE(v, hi[c]) << t;
+      }
+    }
+  }
+  EXPECT_GT(ring_texels, 0u);
+  EXPECT_EQ(rings.counts.padded, ring_texels);
+  EXPECT_EQ(def.counts.padded, none.baked.size() - none.counts.texels);  // every other texel
 }
 
 TEST(AtlasBake, BadInputIsRejected) {

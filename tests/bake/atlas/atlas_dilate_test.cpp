@@ -108,17 +108,23 @@ TEST(AtlasDilate, PushPullNothingBakedLeavesImage) {
   for (float v : img.rgba) EXPECT_EQ(v, kUnset);
 }
 
+// About 5 % of the texels baked with random values in [0.25, 0.75].
+Img random_sparse(int w, int h, unsigned seed) {
+  Img img(w, h);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> val(0.25f, 0.75f), unit(0, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (unit(rng) < 0.05f) img.set(x, y, val(rng));
+  return img;
+}
+
 // A larger odd-sized image with random baked texels: every hole is filled
 // with a convex combination of baked values (within their range), baked
 // texels are bit-identical, results do not depend on the thread count.
 TEST(AtlasDilate, PushPullFillsEverythingWithinRangeAndIsDeterministic) {
   const int w = 77, h = 45;
-  Img img(w, h);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> val(0.25f, 0.75f), unit(0, 1);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (unit(rng) < 0.05f) img.set(x, y, val(rng));
+  const Img img = random_sparse(w, h, 3);
   Img one = img, two = img, dil1 = img, dil2 = img;
   {
     ThreadLimit limit(1);
@@ -142,6 +148,70 @@ TEST(AtlasDilate, PushPullFillsEverythingWithinRangeAndIsDeterministic) {
       }
       EXPECT_GE(v, 0.25f);
       EXPECT_LE(v, 0.75f);
+    }
+  }
+}
+
+// The mip-safe push on the 4 x 4 set-up above (baked (0,0) = 1 and
+// (3,3) = 0). Pull as before: level 1 [[1, -], [-, 0]] (weights 1, 0, 0,
+// 1), level 2 = 0.5. Push: level-1 holes take the level-2 texel: 0.5.
+// Level 0, each hole from its parent at level 1 (x / 2, y / 2):
+//   (1,0): parent (0,0) holds data; bilinear corners at (0.25, -0.25)
+//          clamp to (0,0) and (1,0), only (0,0) holds data: 1
+//   (1,1): parent (0,0); corners at (0.25, 0.25): (0,0) weight 9/16 (1),
+//          (1,1) weight 1/16 (0), the other two hold none: (9/16) / (10/16) = 0.9
+//   (2,2): parent (1,1) = 0; at (0.75, 0.75): (0,0) 1/16 (1), (1,1) 9/16 (0): 0.1
+//   (2,1), (3,0), (0,3): parents (1,0) / (0,1) hold no data: inherit 0.5
+// Alpha of every filled texel: 0.
+TEST(AtlasDilate, MipSafePushPullHandComputed) {
+  Img img(4, 4);
+  img.set(0, 0, 1.0f);
+  img.set(3, 3, 0.0f);
+  EXPECT_EQ(push_pull_fill(img.rgba, img.baked, 4, 4, PushPullMode::kMipSafe), 14u);
+  EXPECT_FLOAT_EQ(img.at(1, 0), 1.0f);
+  EXPECT_FLOAT_EQ(img.at(1, 1), 0.9f);
+  EXPECT_FLOAT_EQ(img.at(2, 2), 0.1f);
+  EXPECT_FLOAT_EQ(img.at(2, 1), 0.5f);
+  EXPECT_FLOAT_EQ(img.at(3, 0), 0.5f);
+  EXPECT_FLOAT_EQ(img.at(0, 3), 0.5f);
+  for (int y = 0; y < 4; ++y) {
+    for (int x = 0; x < 4; ++x) {
+      if (img.baked[y * 4 + x]) {
+        EXPECT_EQ(img.at(x, y, 3), img.at(x, y, 0));  // baked: untouched
+      } else {
+        EXPECT_EQ(img.at(x, y, 3), 0.f) << x << "," << y;
+        EXPECT_FLOAT_EQ(img.at(x, y), img.at(y, x));  // the set-up's symmetry
+      }
+    }
+  }
+}
+
+// Random odd-sized image as above: the mip-safe fill is deterministic and
+// within the baked range, holes transparent.
+TEST(AtlasDilate, MipSafePushPullWithinRangeAndDeterministic) {
+  const int w = 77, h = 45;
+  const Img img = random_sparse(w, h, 5);
+  Img one = img, two = img;
+  {
+    ThreadLimit limit(1);
+    push_pull_fill(one.rgba, one.baked, w, h, PushPullMode::kMipSafe);
+  }
+  {
+    ThreadLimit limit(2);
+    push_pull_fill(two.rgba, two.baked, w, h, PushPullMode::kMipSafe);
+  }
+  EXPECT_EQ(one.rgba, two.rgba);
+  for (std::size_t i = 0; i < one.baked.size(); ++i) {
+    for (int c = 0; c < 4; ++c) {
+      const float v = one.rgba[i * 4 + c];
+      if (img.baked[i]) {
+        EXPECT_EQ(v, img.rgba[i * 4 + c]);
+      } else if (c == 3) {
+        EXPECT_EQ(v, 0.f);
+      } else {
+        EXPECT_GE(v, 0.25f);
+        EXPECT_LE(v, 0.75f);
+      }
     }
   }
 }
