@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -9,6 +10,7 @@
 #include <sstream>
 #include <type_traits>
 
+#include "mesh_io/atomic_file.h"
 #include "mesh_io/byte_order.h"
 #include "mesh_io/regular_file.h"
 
@@ -314,7 +316,137 @@ bool is_file(const fs::path& p) {
   return fs::exists(p, ec);
 }
 
+// The rotation's unit quaternion (w, x, y, z), w >= 0 (Shepperd's method:
+// the largest of the four candidates keeps it accurate).
+std::array<double, 4> quaternion_of(const std::array<double, 9>& r) {
+  const double trace = r[0] + r[4] + r[8];
+  std::array<double, 4> q{};
+  if (trace > 0) {
+    const double s = 2 * std::sqrt(1 + trace);
+    q = {s / 4, (r[7] - r[5]) / s, (r[2] - r[6]) / s, (r[3] - r[1]) / s};
+  } else if (r[0] > r[4] && r[0] > r[8]) {
+    const double s = 2 * std::sqrt(1 + r[0] - r[4] - r[8]);
+    q = {(r[7] - r[5]) / s, s / 4, (r[1] + r[3]) / s, (r[2] + r[6]) / s};
+  } else if (r[4] > r[8]) {
+    const double s = 2 * std::sqrt(1 + r[4] - r[0] - r[8]);
+    q = {(r[2] - r[6]) / s, (r[1] + r[3]) / s, s / 4, (r[5] + r[7]) / s};
+  } else {
+    const double s = 2 * std::sqrt(1 + r[8] - r[0] - r[4]);
+    q = {(r[3] - r[1]) / s, (r[2] + r[6]) / s, (r[5] + r[7]) / s, s / 4};
+  }
+  if (q[0] < 0) {
+    for (double& v : q) v = -v;
+  }
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (double& v : q) v /= n;
+  return q;
+}
+
+Status write_file(const fs::path& path, const std::string& bytes) {
+  return write_atomically(path, [&](const fs::path& temp) -> Status {
+    std::ofstream out(temp, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) return make_error(ErrorCode::kIo, "cannot write " + path.string());
+    return ok_status();
+  });
+}
+
+template <class T>
+void put(std::string& out, T v) {
+  if constexpr (std::endian::native == std::endian::big && sizeof(T) > 1) {
+    if constexpr (std::is_same_v<T, double>) {
+      v = std::bit_cast<double>(byte_swap(std::bit_cast<uint64_t>(v)));
+    } else {
+      v = static_cast<T>(byte_swap(static_cast<std::make_unsigned_t<T>>(v)));
+    }
+  }
+  char b[sizeof(T)];
+  std::memcpy(b, &v, sizeof(T));
+  out.append(b, sizeof(T));
+}
+
+std::string exact(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
 }  // namespace
+
+Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>& images,
+                          bool binary) {
+  std::error_code ec;
+  fs::create_directories(folder, ec);
+  if (ec)
+    return make_error(ErrorCode::kIo, "cannot create " + folder.string() + ": " + ec.message());
+  // Cameras: one per distinct (model, size, params), numbered from 1.
+  std::vector<const CameraSpec*> cameras;
+  std::vector<uint32_t> camera_of(images.size());
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const CameraSpec& s = images[i].camera.spec();
+    std::size_t k = 0;
+    while (k < cameras.size() &&
+           !(cameras[k]->model == s.model && cameras[k]->width == s.width &&
+             cameras[k]->height == s.height && cameras[k]->params == s.params)) {
+      ++k;
+    }
+    if (k == cameras.size()) cameras.push_back(&s);
+    camera_of[i] = static_cast<uint32_t>(k + 1);
+  }
+  std::string cam, img;
+  if (binary) {
+    put<uint64_t>(cam, cameras.size());
+    for (std::size_t k = 0; k < cameras.size(); ++k) {
+      put<uint32_t>(cam, static_cast<uint32_t>(k + 1));
+      put<int32_t>(cam, camera_model_id(cameras[k]->model));
+      put<uint64_t>(cam, static_cast<uint64_t>(cameras[k]->width));
+      put<uint64_t>(cam, static_cast<uint64_t>(cameras[k]->height));
+      for (double p : cameras[k]->params) put(cam, p);
+    }
+    put<uint64_t>(img, images.size());
+  } else {
+    cam =
+        "# Camera list with one line of data per camera:\n"
+        "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
+        "# Number of cameras: " +
+        std::to_string(cameras.size()) + "\n";
+    for (std::size_t k = 0; k < cameras.size(); ++k) {
+      cam += std::to_string(k + 1) + " " + std::string(camera_model_name(cameras[k]->model)) + " " +
+             std::to_string(cameras[k]->width) + " " + std::to_string(cameras[k]->height);
+      for (double p : cameras[k]->params) cam += " " + exact(p);
+      cam += "\n";
+    }
+    img =
+        "# Image list with two lines of data per image:\n"
+        "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
+        "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
+        "# Number of images: " +
+        std::to_string(images.size()) + "\n";
+  }
+  for (std::size_t i = 0; i < images.size(); ++i) {
+    const CameraPose& pose = images[i].camera.spec().pose;
+    const std::array<double, 4> q = quaternion_of(pose.r);
+    const uint32_t id = images[i].image_id ? images[i].image_id : static_cast<uint32_t>(i + 1);
+    if (binary) {
+      put<uint32_t>(img, id);
+      for (double v : q) put(img, v);
+      for (double v : {pose.t.x, pose.t.y, pose.t.z}) put(img, v);
+      put<uint32_t>(img, camera_of[i]);
+      img += images[i].name;
+      img += '\0';
+      put<uint64_t>(img, 0);
+    } else {
+      img += std::to_string(id);
+      for (double v : q) img += " " + exact(v);
+      for (double v : {pose.t.x, pose.t.y, pose.t.z}) img += " " + exact(v);
+      img += " " + std::to_string(camera_of[i]) + " " + images[i].name + "\n\n";
+    }
+  }
+  const std::string ext = binary ? ".bin" : ".txt";
+  if (Status s = write_file(folder / ("cameras" + ext), cam); !s) return s;
+  return write_file(folder / ("images" + ext), img);
+}
 
 Expected<std::vector<ColmapImage>> read_colmap_model(const fs::path& folder) {
   std::error_code ec;

@@ -42,4 +42,12 @@ struct ColmapImage {
 //        bytes after the last binary record.
 Expected<std::vector<ColmapImage>> read_colmap_model(const std::filesystem::path& folder);
 
+// Writes `images` as a COLMAP model into `folder` (created if missing):
+// cameras.txt + images.txt (numbers with 17 significant digits, so they read
+// back exactly; no 2D points) or, with `binary`, cameras.bin + images.bin.
+// Images with equal intrinsics share one camera id. Each file is written
+// atomically. Errors: kIo.
+Status write_colmap_model(const std::filesystem::path& folder,
+                          const std::vector<ColmapImage>& images, bool binary);
+
 }  // namespace texbake

@@ -48,6 +48,7 @@ std::unique_ptr<CliApp> make_cli_app(const CliHooks& hooks) {
   add(add_compare_command);
   add(add_info_command);
   add(add_batch_command);
+  add(add_cameras_command);
   return cli;
 }
 

@@ -19,6 +19,7 @@
 #include "bake/cli/geometry_flags.h"
 #include "bake/cli/proxy_for_mesh.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/colmap_model.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -42,6 +43,8 @@ struct RenderArgs {
   std::string outside = "clamp";  // --outside clamp | R,G,B[,A]
   std::optional<WrapMode> wrap;   // --wrap clamp | repeat (plane proxy only)
   GeometryFlags geometry;
+  bool unlit = false;
+  std::string colmap;  // --colmap DIR: each view a photo of a COLMAP workspace
 };
 
 // "WxH" with positive integers.
@@ -79,6 +82,41 @@ std::filesystem::path default_output(const std::string& mesh) {
   return std::filesystem::path(mesh).stem().string() + "_render.png";
 }
 
+// --colmap DIR: the --views views, each as one photo DIR/images/view_NN.png
+// of a COLMAP PINHOLE camera (pinhole_of_view), with the model in
+// DIR/sparse/0/ (text): the layout `bake --cameras DIR/sparse/0` reads.
+int render_workspace(const MeshData& mesh, const ColorSource& source, const RenderOptions& options,
+                     const RunOptions& run, const RenderArgs& args) {
+  const std::filesystem::path dir = args.colmap;
+  Expected<BoundingSphere> bounds = bounding_sphere(mesh);
+  if (!bounds) return report_mesh_error(bounds.error(), args.mesh);
+  std::vector<ColmapImage> images;
+  for (int k = 0; k < options.views; ++k) {
+    RenderOptions view = options;
+    view.views = 1;
+    view.azimuth_deg = options.azimuth_deg + k * 360.0 / options.views;
+    Expected<Rendered> rendered = render_mesh(mesh, source, view, run);
+    if (!rendered) return report_mesh_error(rendered.error(), args.mesh);
+    char name[32];
+    std::snprintf(name, sizeof name, "view_%02d.png", k);
+    const std::filesystem::path photo = dir / "images" / name;
+    std::error_code ec;
+    std::filesystem::create_directories(photo.parent_path(), ec);
+    if (ec) return report_error(ErrorCode::kIo, "cannot create " + photo.parent_path().string());
+    if (Status st = write_image(photo, rendered->image.view()); !st)
+      return report_error(st.error());
+    Expected<Camera> camera = make_camera(*bounds, view, view.azimuth_deg);
+    if (!camera) return report_error(camera.error());
+    images.push_back({static_cast<uint32_t>(k + 1), 1, name, pinhole_of_view(*camera)});
+  }
+  if (Status st = write_colmap_model(dir / "sparse" / "0", images, /*binary=*/false); !st) {
+    return report_error(st.error());
+  }
+  std::printf("rendered %d views as a COLMAP workspace: %s (images/, sparse/0/)\n", options.views,
+              dir.string().c_str());
+  return 0;
+}
+
 int run_render(const RenderArgs& args) {
   RenderOptions options;
   const auto size = parse_size(args.size);
@@ -98,6 +136,15 @@ int run_render(const RenderArgs& args) {
   options.samples_per_pixel = args.samples;
   options.smooth_normals = !args.flat;
   options.up = up_direction(args.geometry);
+  if (args.unlit) {  // the colour source's albedo as it is: photos of a bake's ground truth
+    options.phong.ambient = 1;
+    options.phong.key_diffuse = options.phong.fill_diffuse = 0;
+    options.phong.key_specular = options.phong.fill_specular = 0;
+  }
+  if (!args.colmap.empty() && !args.output.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "-o does not apply to --colmap (the views go to DIR/images/)");
+  }
   if (!args.background.empty()) {
     for (int c = 0; c < 3; ++c) options.background[c] = args.background[c];
   }
@@ -160,7 +207,9 @@ int run_render(const RenderArgs& args) {
       !st) {
     return report_error(st.error());
   }
-  if (Status st = check_writable(output); !st) return report_error(st.error());
+  if (args.colmap.empty()) {
+    if (Status st = check_writable(output); !st) return report_error(st.error());
+  }
   RunOptions run;
   run.threads = args.threads;
 
@@ -212,6 +261,7 @@ int run_render(const RenderArgs& args) {
     source = VertexColorSource{};
   }
 
+  if (!args.colmap.empty()) return render_workspace(mesh, source, options, run, args);
   Expected<Rendered> rendered = render_mesh(mesh, source, options, run);
   if (!rendered) return report_mesh_error(rendered.error(), args.mesh);
   if (Status st = write_image(output, rendered->image.view()); !st) return report_error(st.error());
@@ -262,6 +312,13 @@ RunFunction add_render_command(CLI::App& app) {
       "plane proxy only: clamp (default) or repeat (tile), as in texbake bake");
   add_geometry_flags(*cmd, args->geometry);
   cmd->add_flag("--flat", args->flat, "flat shading (geometric normals)");
+  cmd->add_flag("--unlit", args->unlit,
+                "no lighting: each pixel is the colour source's albedo (photos for "
+                "bake --cameras)");
+  cmd->add_option("--colmap", args->colmap,
+                  "write each of the --views views as a photo of a COLMAP workspace: "
+                  "DIR/images/view_NN.png and the PINHOLE cameras in DIR/sparse/0/ (text), "
+                  "which bake --cameras DIR/sparse/0 reads");
   cmd->add_option("--background", args->background, "R,G,B background in [0, 1]")
       ->delimiter(',')
       ->expected(3)

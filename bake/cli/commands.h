@@ -32,6 +32,8 @@ RunFunction add_info_command(CLI::App& app);
 // texbake batch JOBS.jsonl (bake/cli/cmd_batch.cpp): each line's job runs
 // through a fresh app of make_cli_app (bake/cli/app.h).
 RunFunction add_batch_command(CLI::App& app);
+// texbake cameras check (bake/cli/cmd_cameras.cpp).
+RunFunction add_cameras_command(CLI::App& app);
 
 // The exit code of an error, by its category (texbake/texbake.h): 2 for
 // kUsage, 1 for kInput, kInternal and kCancelled (SPEC section 5). The one

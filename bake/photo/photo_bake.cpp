@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <numbers>
 
+#include "bake/photo/segments.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
@@ -161,14 +162,13 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     const Vec3 centre = camera.centre();
     const int w = camera.spec().width, h = camera.spec().height;
     const double focal2 = camera.mean_focal() * camera.mean_focal();
-    std::vector<std::size_t> in_view_chunk((n + kGrain - 1) / kGrain, 0),
+    std::vector<std::size_t> in_view_chunk(block_count(n, kGrain), 0),
         visible_chunk(in_view_chunk.size(), 0);
-    parallel_for_chunks(n, kGrain, [&](std::size_t begin, std::size_t end) {
+    parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
       // Cull first, then trace only the candidates' segments.
       std::vector<uint32_t> candidates;
       std::vector<CameraProjection> projections;
-      RayArrays rays;
-      std::vector<float> tnear, tfar;
+      SegmentScratch scratch;
       std::vector<uint8_t> occluded;
       for (std::size_t v = begin; v < end; ++v) {
         quality[v] = 0;
@@ -183,21 +183,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         projections.push_back(proj);
       }
       const std::size_t m = candidates.size();
-      rays.resize(m);
-      tnear.resize(m), tfar.resize(m), occluded.assign(m, 0);
-      for (std::size_t i = 0; i < m; ++i) {
-        const Float3 q = mesh.positions[candidates[i]];
-        const Vec3 p{q.x, q.y, q.z};
-        const Vec3 segment = centre - p;
-        const double relative = offset / length(segment);
-        rays.set(i, p, segment);
-        tnear[i] = static_cast<float>(relative);
-        tfar[i] = static_cast<float>(std::max(relative, 1 - relative));
-      }
-      RayBatch batch = rays.batch(m);
-      batch.tnear = tnear.data();
-      batch.tfar = tfar.data();
-      if (m > 0) scene->occluded(batch, occluded.data());
+      occluded.assign(m, 0);
+      occluded_segments(*scene, offset, mesh, candidates, centre, scratch, occluded.data());
       std::size_t visible = 0;
       for (std::size_t i = 0; i < m; ++i) {
         if (occluded[i]) continue;
@@ -213,8 +200,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         quality[v] = static_cast<float>(std::max(q, 1e-30));
         rgb[v] = {s[0], s[1], s[2]};
       }
-      in_view_chunk[begin / kGrain] = m;
-      visible_chunk[begin / kGrain] = visible;
+      in_view_chunk[block] = m;
+      visible_chunk[block] = visible;
     });
     for (std::size_t k = 0; k < in_view_chunk.size(); ++k) {
       stats.in_view += in_view_chunk[k];
@@ -262,10 +249,10 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   // Blend per vertex, in linear light.
   std::vector<Rgba> colors(n, Rgba{0, 0, 0, 1});
   std::vector<uint8_t> unknown(n, 0);
-  std::vector<std::vector<double>> share_chunk((n + kGrain - 1) / kGrain,
+  std::vector<std::vector<double>> share_chunk(block_count(n, kGrain),
                                                std::vector<double>(photos.size(), 0.0));
-  parallel_for_chunks(n, kGrain, [&](std::size_t begin, std::size_t end) {
-    std::vector<double>& share = share_chunk[begin / kGrain];
+  parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    std::vector<double>& share = share_chunk[block];
     std::vector<double> weight;
     for (std::size_t v = begin; v < end; ++v) {
       const uint32_t s0 = first[v], s1 = first[v + 1];

@@ -113,4 +113,16 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
   });
 }
 
+Expected<std::vector<CameraCheck>> check_cameras(const MeshData& mesh,
+                                                 const std::vector<Photo>& photos,
+                                                 const RunOptions& run) {
+  if (Status s = check_triangles(mesh); !s) return s.error();
+  return detail::run_call<std::vector<CameraCheck>>(
+      run, [&]() -> Expected<std::vector<CameraCheck>> {
+        Expected<std::vector<CameraCheck>> checks = check_camera_poses(mesh, photos);
+        if (!checks) return detail::as_input(checks.error());
+        return checks;
+      });
+}
+
 }  // namespace texbake

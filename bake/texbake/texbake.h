@@ -51,6 +51,7 @@
 
 #include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
 #include "bake/atlas/bake_atlas.h"
+#include "bake/photo/camera_check.h"
 #include "bake/photo/photo_bake.h"
 #include "bake/render/render_preview.h"
 #include "bake/shade/options.h"
@@ -215,6 +216,14 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
                                                      const std::vector<Photo>& photos,
                                                      const PhotoBakeOptions& options = {},
                                                      const RunOptions& run = {});
+
+// texbake cameras check (the contract of bake/photo/camera_check.h): per
+// photo the share of the mesh in front, inside the photo and visible, and
+// warnings for poses that look like convention errors. Errors: kInput (a
+// mesh with no non-degenerate triangle), kInternal.
+Expected<std::vector<CameraCheck>> check_cameras(const MeshData& mesh,
+                                                 const std::vector<Photo>& photos,
+                                                 const RunOptions& run = {});
 
 // ---- Atlas ----------------------------------------------------------------
 

@@ -40,4 +40,12 @@ void parallel_for_chunks(std::size_t n, std::size_t grain,
       tbb::simple_partitioner());
 }
 
+void parallel_for_blocks(std::size_t n, std::size_t size,
+                         const std::function<void(std::size_t, std::size_t, std::size_t)>& fn) {
+  size = std::max<std::size_t>(size, 1);
+  parallel_for_chunks(block_count(n, size), 1, [&](std::size_t first, std::size_t last) {
+    for (std::size_t b = first; b < last; ++b) fn(b, b * size, std::min(n, (b + 1) * size));
+  });
+}
+
 }  // namespace texbake

@@ -39,4 +39,18 @@ class ThreadLimit {
 void parallel_for_chunks(std::size_t n, std::size_t grain,
                          const std::function<void(std::size_t begin, std::size_t end)>& fn);
 
+// Calls fn(block, begin, end) for the fixed blocks [block * size, min(n,
+// (block + 1) * size)) of [0, n), in parallel: block boundaries depend on n
+// and size alone (parallel_for_chunks' chunks are not aligned to its grain),
+// so per-block partial results summed in block order never depend on the
+// thread count.
+void parallel_for_blocks(
+    std::size_t n, std::size_t size,
+    const std::function<void(std::size_t block, std::size_t begin, std::size_t end)>& fn);
+
+// The number of blocks parallel_for_blocks(n, size, ...) calls fn for.
+inline std::size_t block_count(std::size_t n, std::size_t size) {
+  return (n + size - 1) / size;
+}
+
 }  // namespace texbake

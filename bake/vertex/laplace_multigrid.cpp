@@ -39,12 +39,9 @@ Index block_count(Index rows) {
 // Calls fn(begin, end) on the fixed row blocks of [0, rows), in parallel.
 template <class Fn>
 void for_row_blocks(Index rows, Fn&& fn) {
-  parallel_for_chunks(static_cast<std::size_t>(block_count(rows)), 1,
-                      [&](std::size_t first, std::size_t last) {
-                        for (std::size_t blk = first; blk < last; ++blk) {
-                          const Index begin = static_cast<Index>(blk) * kBlockRows;
-                          fn(begin, std::min(rows, begin + kBlockRows));
-                        }
+  parallel_for_blocks(static_cast<std::size_t>(rows), static_cast<std::size_t>(kBlockRows),
+                      [&](std::size_t, std::size_t begin, std::size_t end) {
+                        fn(static_cast<Index>(begin), static_cast<Index>(end));
                       });
 }
 

@@ -212,6 +212,37 @@ TEST_F(ColmapModel, BadBinaryModelsNameTheFileAndRecord) {
   }
 }
 
+TEST_F(ColmapModel, WrittenModelsReadBackInBothForms) {
+  write("cameras.txt", kCamerasTxt);
+  write("images.txt", kImagesTxt);
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(dir_);
+  ASSERT_TRUE(model) << model.error().message;
+  for (bool binary : {false, true}) {
+    const fs::path out = dir_ / (binary ? "bin" : "txt");
+    ASSERT_TRUE(write_colmap_model(out, *model, binary));
+    EXPECT_TRUE(fs::exists(out / (binary ? "cameras.bin" : "cameras.txt")));
+    Expected<std::vector<ColmapImage>> back = read_colmap_model(out);
+    ASSERT_TRUE(back) << back.error().message;
+    ASSERT_EQ(back->size(), 2u);
+    for (std::size_t i = 0; i < 2; ++i) {
+      const CameraSpec &a = (*model)[i].camera.spec(), &b = (*back)[i].camera.spec();
+      EXPECT_EQ((*back)[i].name, (*model)[i].name);
+      EXPECT_EQ((*back)[i].image_id, (*model)[i].image_id);
+      EXPECT_EQ(b.model, a.model);
+      EXPECT_EQ(b.params, a.params);
+      EXPECT_EQ(b.pose.t, a.pose.t);
+      // R -> quaternion -> R: equal to rounding.
+      for (int k = 0; k < 9; ++k) EXPECT_NEAR(b.pose.r[k], a.pose.r[k], 1e-15);
+    }
+  }
+  // Text and binary hold the same numbers: the cameras read from them are equal.
+  Expected<std::vector<ColmapImage>> txt = read_colmap_model(dir_ / "txt");
+  Expected<std::vector<ColmapImage>> bin = read_colmap_model(dir_ / "bin");
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ((*txt)[i].camera.spec().pose.r, (*bin)[i].camera.spec().pose.r);
+  }
+}
+
 TEST_F(ColmapModel, MissingModelsAreIoErrors) {
   Expected<std::vector<ColmapImage>> none = read_colmap_model(dir_);
   ASSERT_FALSE(none);

@@ -1,0 +1,83 @@
+// texbake cameras check MESH --cameras PATH [--images DIR] [--json]
+// (SPEC section 9): per camera the share of the mesh's vertices in front of
+// it, inside its photo and visible, and a warning when a pose looks like a
+// convention error (bake/photo/camera_check.h).
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "bake/cli/commands.h"
+#include "texbake/texbake.h"
+
+namespace texbake::cli {
+
+namespace {
+
+struct CamerasArgs {
+  std::string mesh, cameras, images;
+  bool json = false;
+  int threads = 0;
+};
+
+int run_check(const CamerasArgs& a) {
+  Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images);
+  if (!photos) return report_error(photos.error());
+  Expected<LoadedMesh> mesh = read_mesh(a.mesh);
+  if (!mesh) return report_error(mesh.error());
+  RunOptions run;
+  run.threads = a.threads;
+  Expected<std::vector<CameraCheck>> checks = check_cameras(mesh->mesh, *photos, run);
+  if (!checks) return report_mesh_error(checks.error(), a.mesh);
+  std::size_t warned = 0;
+  for (const CameraCheck& c : *checks) warned += !c.warnings.empty();
+  if (a.json) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::array();
+    for (const CameraCheck& c : *checks) {
+      j.push_back({{"image", c.name},
+                   {"in_front", c.in_front},
+                   {"inside", c.inside},
+                   {"visible", c.visible},
+                   {"warnings", c.warnings}});
+    }
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("%-32s %9s %9s %9s\n", "image", "in front", "inside", "visible");
+    for (const CameraCheck& c : *checks) {
+      std::printf("%-32s %8.1f%% %8.1f%% %8.1f%%\n", c.name.c_str(), 100 * c.in_front,
+                  100 * c.inside, 100 * c.visible);
+    }
+  }
+  std::fflush(stdout);
+  for (const CameraCheck& c : *checks) {
+    for (const std::string& w : c.warnings) {
+      std::fprintf(stderr, "texbake: warning: %s: %s\n", c.name.c_str(), w.c_str());
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+RunFunction add_cameras_command(CLI::App& app) {
+  auto args = std::make_shared<CamerasArgs>();
+  CLI::App* cmd = app.add_subcommand("cameras", "Inspect calibrated cameras against a mesh.");
+  cmd->require_subcommand(1);
+  CLI::App* check = cmd->add_subcommand(
+      "check",
+      "Per camera: the share of the mesh's vertices in front of it, inside its photo and "
+      "visible from it, with a warning when a pose looks like a convention error "
+      "(camera-to-world given as world-to-camera, OpenGL axes).");
+  check->add_option("mesh", args->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
+  check
+      ->add_option("--cameras", args->cameras,
+                   "a COLMAP sparse model folder or a JSON camera list (as bake --cameras)")
+      ->required();
+  check->add_option("--images", args->images, "the photos' folder (default as bake --cameras)");
+  check->add_flag("--json", args->json, "print the table as JSON");
+  check->add_option("--threads", args->threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  return [args] { return run_check(*args); };
+}
+
+}  // namespace texbake::cli

@@ -1,0 +1,34 @@
+// `texbake cameras check` (SPEC section 9): how much of the mesh each camera
+// sees, and the pose conventions that would explain a camera that sees
+// little of it. Shares are of the vertices referenced by triangles.
+//   in_front: Z > 0 in the camera's axes;
+//   inside:   in front and inside the photo (and the distortion's valid radius);
+//   visible:  inside and the segment to the camera's centre is free.
+// Warnings, when at most half of the mesh is in front:
+//   "camera-to-world given as world-to-camera?" when the inverse pose puts
+//     more than half of the mesh inside the photo;
+//   "OpenGL axes? (y and z flipped)" when the pose with its camera y and z
+//     negated does;
+//   else "most of the mesh is behind the camera".
+// And "the mesh is outside the photo" when it is in front but nothing of it
+// is inside.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "bake/photo/photo_bake.h"
+
+namespace texbake {
+
+struct CameraCheck {
+  std::string name;
+  double in_front = 0, inside = 0, visible = 0;  // shares in [0, 1]
+  std::vector<std::string> warnings;
+};
+
+// Errors: kInternal (Embree). Results do not depend on the thread count.
+Expected<std::vector<CameraCheck>> check_camera_poses(const MeshData& mesh,
+                                                      const std::vector<Photo>& photos);
+
+}  // namespace texbake

@@ -1,0 +1,30 @@
+#include "bake/photo/segments.h"
+
+#include <algorithm>
+
+namespace texbake {
+
+void occluded_segments(const EmbreeScene& scene, double offset, const MeshData& mesh,
+                       std::span<const uint32_t> vertices, Vec3 centre, SegmentScratch& scratch,
+                       uint8_t* occluded) {
+  const std::size_t m = vertices.size();
+  if (m == 0) return;
+  scratch.rays.resize(m);
+  scratch.tnear.resize(m);
+  scratch.tfar.resize(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const Float3 q = mesh.positions[vertices[i]];
+    const Vec3 p{q.x, q.y, q.z};
+    const Vec3 segment = centre - p;
+    const double relative = offset / length(segment);
+    scratch.rays.set(i, p, segment);
+    scratch.tnear[i] = static_cast<float>(relative);
+    scratch.tfar[i] = static_cast<float>(std::max(relative, 1 - relative));
+  }
+  RayBatch batch = scratch.rays.batch(m);
+  batch.tnear = scratch.tnear.data();
+  batch.tfar = scratch.tfar.data();
+  scene.occluded(batch, occluded);
+}
+
+}  // namespace texbake
