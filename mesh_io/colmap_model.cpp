@@ -228,6 +228,19 @@ Status check_count(BinaryReader& r, uint64_t count, uint64_t min_record_bytes,
   return ok_status();
 }
 
+// Opens a binary model file and reads its record count, which must fit in
+// the file at min_record_bytes per record.
+Expected<BinaryReader> open_records(const fs::path& path, uint64_t min_record_bytes,
+                                    uint64_t& count) {
+  Expected<BinaryReader> opened = open_binary(path);
+  if (!opened) return opened.error();
+  if (!opened->read(count)) return opened->truncated(0);
+  if (Status s = check_count(*opened, count, min_record_bytes, path.filename().string()); !s) {
+    return s.error();
+  }
+  return opened;
+}
+
 Status check_end(const BinaryReader& r, const std::string& file) {
   if (r.remaining() != 0) {
     return parse_error(file, std::to_string(r.remaining()) + " bytes after the last record");
@@ -236,13 +249,11 @@ Status check_end(const BinaryReader& r, const std::string& file) {
 }
 
 Expected<std::map<uint32_t, Intrinsics>> read_cameras_binary(const fs::path& path) {
-  Expected<BinaryReader> opened = open_binary(path);
-  if (!opened) return opened.error();
-  BinaryReader& r = *opened;
   const std::string file = path.filename().string();
   uint64_t count = 0;
-  if (!r.read(count)) return r.truncated(0);
-  if (Status s = check_count(r, count, 24, file); !s) return s.error();
+  Expected<BinaryReader> opened = open_records(path, 24, count);
+  if (!opened) return opened.error();
+  BinaryReader& r = *opened;
   std::map<uint32_t, Intrinsics> cameras;
   for (uint64_t k = 1; k <= count; ++k) {
     const std::string where = file + " record " + std::to_string(k);
@@ -271,13 +282,11 @@ Expected<std::map<uint32_t, Intrinsics>> read_cameras_binary(const fs::path& pat
 
 Expected<std::vector<ColmapImage>> read_images_binary(
     const fs::path& path, const std::map<uint32_t, Intrinsics>& cameras) {
-  Expected<BinaryReader> opened = open_binary(path);
-  if (!opened) return opened.error();
-  BinaryReader& r = *opened;
   const std::string file = path.filename().string();
   uint64_t count = 0;
-  if (!r.read(count)) return r.truncated(0);
-  if (Status s = check_count(r, count, 72, file); !s) return s.error();
+  Expected<BinaryReader> opened = open_records(path, 72, count);
+  if (!opened) return opened.error();
+  BinaryReader& r = *opened;
   std::vector<ColmapImage> images;
   std::map<uint32_t, std::size_t> seen;
   for (uint64_t k = 1; k <= count; ++k) {
