@@ -112,8 +112,9 @@ GlbTexture glb_texture(const fs::path& glb) {
 }
 
 class ColourSpaceCli : public ::testing::Test {
- protected:
+ public:
   static constexpr int kNu = 24, kNv = 12;
+  const fs::path& dir() const { return dir_; }
 
   void SetUp() override {
     dir_ = testing_cli::fresh_test_dir("colour");
@@ -168,6 +169,7 @@ class ColourSpaceCli : public ::testing::Test {
     ASSERT_EQ(r.exit_code, 0) << args << "\n" << r.err;
   }
 
+ protected:
   fs::path dir_;
 };
 
@@ -209,13 +211,22 @@ TEST_F(ColourSpaceCli, PlyIsSrgbFromAnSrgbPngAndFromALinearExr) {
   EXPECT_EQ(testing_cli::slurp(dir_ / "ll.ply"), testing_cli::slurp(dir_ / "l.ply"));
 }
 
+// Bakes `in` into an OBJ atlas with `flags`, reads the atlas image
+// (`extension`) back by OpenImageIO and checks its tag and layout.
+OiioImage baked_atlas(const ColourSpaceCli& t, const fs::path& in, const std::string& flags,
+                      const std::string& extension, const std::string& tag) {
+  const fs::path obj = t.dir() / (in.stem().string() + "_atlas.obj");
+  t.run_ok(t.bake(in, obj, "--size 32 " + flags));
+  OiioImage img = oiio_read(fs::path(obj).replace_extension(extension));
+  EXPECT_TRUE(img.ok) << in;
+  EXPECT_EQ(img.color_space, tag) << in;
+  EXPECT_EQ(img.channels, 4) << in;
+  return img;
+}
+
 TEST_F(ColourSpaceCli, PngAtlasIsSrgbAndTaggedSrgb) {
   for (const fs::path& in : {srgb_png(), linear_exr()}) {
-    const fs::path obj = dir_ / (in.stem().string() + "_atlas.obj");
-    run_ok(bake(in, obj, "--size 32"));
-    const OiioImage png = oiio_read(fs::path(obj).replace_extension(".png"));
-    ASSERT_TRUE(png.ok) << in;
-    EXPECT_EQ(png.color_space, "sRGB") << in;
+    const OiioImage png = baked_atlas(*this, in, "", ".png", "sRGB");
     ASSERT_EQ(png.channels, 4);
     const std::vector<const float*> covered = covered_texels(png);
     ASSERT_GT(covered.size(), 100u) << in;
@@ -227,11 +238,7 @@ TEST_F(ColourSpaceCli, PngAtlasIsSrgbAndTaggedSrgb) {
 
 TEST_F(ColourSpaceCli, ExrAtlasHoldsLinearValuesAndIsTaggedLinear) {
   for (const fs::path& in : {srgb_png(), linear_exr()}) {
-    const fs::path obj = dir_ / (in.stem().string() + "_atlas.obj");
-    run_ok(bake(in, obj, "--size 32 --format exr"));
-    const OiioImage exr = oiio_read(fs::path(obj).replace_extension(".exr"));
-    ASSERT_TRUE(exr.ok) << in;
-    EXPECT_EQ(exr.color_space, "Linear") << in;
+    const OiioImage exr = baked_atlas(*this, in, "--format exr", ".exr", "Linear");
     ASSERT_EQ(exr.channels, 4);
     const std::vector<const float*> covered = covered_texels(exr);
     ASSERT_GT(covered.size(), 100u) << in;
