@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 
 #include "mapping/vec.h"
 
@@ -11,13 +12,21 @@ namespace texbake {
 
 using Rgba = std::array<float, 4>;
 
+// The encoding of an image's R, G, B values (issue #11; alpha is never
+// encoded). kSrgb: sRGB-encoded (the IEC 61966-2-1 transfer curve applied),
+// as 8/16-bit files store colour and as texbake's bakes give it. kLinear:
+// linear light, as float and half files (EXR, HDR) store it; may exceed 1.
+enum class ColorSpace : uint8_t { kSrgb, kLinear };
+
 // width x height pixels, 4 floats (R, G, B, A) each, top row first, rows
 // contiguous. Values are the image's stored values scaled to [0, 1] for
-// integer formats (float images are unscaled).
+// integer formats (float images are unscaled), in the encoding
+// `color_space` names.
 struct ImageView {
   int width = 0;
   int height = 0;
   const float* data = nullptr;  // width * height * 4 floats
+  ColorSpace color_space = ColorSpace::kSrgb;
 
   const float* pixel(int x, int y) const {
     return data + (static_cast<std::size_t>(y) * width + x) * 4;

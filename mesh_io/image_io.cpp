@@ -5,9 +5,11 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 
+#include "mapping/sample.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/regular_file.h"
 
@@ -33,7 +35,36 @@ std::string first_line(std::string s) {
   return s.empty() ? std::string("unknown OpenImageIO error") : s;
 }
 
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
 }  // namespace
+
+ColorSpace color_space_from_attributes(const std::string& name, float gamma, bool float_data,
+                                       bool* recognised) {
+  const ColorSpace by_type = float_data ? ColorSpace::kLinear : ColorSpace::kSrgb;
+  if (recognised) *recognised = true;
+  if (name.empty()) return by_type;
+  const std::string n = lower(name);
+  if (n.find("linear") != std::string::npos || n == "lin" || n.rfind("lin_", 0) == 0) {
+    return ColorSpace::kLinear;
+  }
+  if (n.rfind("srgb", 0) == 0) return ColorSpace::kSrgb;
+  // OIIO 2.4 names a PNG's or TIFF's gAMA "GammaX.Y" (or "GammaCorrected")
+  // with the exponent in oiio:Gamma.
+  if (n.rfind("gamma", 0) == 0) {
+    if (std::abs(gamma - 1.f) < 0.01f) return ColorSpace::kLinear;
+    if (gamma >= 1.8f && gamma <= 2.6f) return ColorSpace::kSrgb;
+  }
+  if (recognised) *recognised = false;
+  return by_type;
+}
+
+const char* color_space_name(ColorSpace space) {
+  return space == ColorSpace::kLinear ? "Linear" : "sRGB";
+}
 
 Status check_image_size(long long width, long long height, int channels) {
   if (width <= 0 || height <= 0 || channels <= 0) {
@@ -57,7 +88,7 @@ Status check_image_size(long long width, long long height, int channels) {
   return ok_status();
 }
 
-Expected<Image> read_image(const fs::path& path) {
+Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options) {
   // Before OIIO opens it: a FIFO would block, a device never end.
   if (Status s = check_regular_file(path, "an image"); !s) return s.error();
   std::error_code ec;
@@ -163,18 +194,43 @@ Expected<Image> read_image(const fs::path& path) {
   }
   in->close();
   img.nonfinite_values = nonfinite;
+  if (options.color_space == TextureColorSpace::kAuto) {
+    const std::string name = spec.get_string_attribute("oiio:ColorSpace");
+    bool recognised = true;
+    img.color_space = color_space_from_attributes(name, spec.get_float_attribute("oiio:Gamma", 0.f),
+                                                  spec.format.is_floating_point(), &recognised);
+    if (!recognised) img.unrecognised_color_space = name;
+  } else {
+    img.color_space =
+        options.color_space == TextureColorSpace::kLinear ? ColorSpace::kLinear : ColorSpace::kSrgb;
+  }
   return img;
 }
 
 namespace {
 
+// How the values change on their way into the file (ImageWriteOptions::encode_for_format).
+enum class Transfer { kNone, kToLinear, kToSrgb };
+
+inline float transfer(float c, Transfer t) {
+  return t == Transfer::kToLinear ? srgb_to_linear(c)
+         : t == Transfer::kToSrgb ? linear_to_srgb(c)
+                                  : c;
+}
+
+// Pixel i's channel k as written (R, G, B through `t`; alpha never).
+inline float file_value(const ImageView& image, std::size_t i, int k, Transfer t) {
+  const float c = image.data[i * 4 + k];
+  return k < 3 ? transfer(c, t) : c;
+}
+
 template <class T>
-std::vector<T> quantize(const ImageView& image, int channels, float max) {
+std::vector<T> quantize(const ImageView& image, int channels, float max, Transfer t) {
   const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
   std::vector<T> out(n * channels);
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < channels; ++k) {
-      const float c = image.data[i * 4 + k];
+      const float c = file_value(image, i, k, t);
       // Clamp, then round to nearest (NaN -> 0).
       const float q = !(c > 0.f) ? 0.f : (c >= 1.f ? max : std::round(c * max));
       out[i * channels + k] = static_cast<T>(q);
@@ -210,9 +266,7 @@ Encoding encoding_for(const ImageView& image, const std::string& ext,
 }
 
 std::string lower_ext(const fs::path& path) {
-  std::string ext = path.extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
+  return lower(path.extension().string());
 }
 
 // Opens `out` on `name` with the spec for `e` and writes the pixels. `what`
@@ -224,7 +278,15 @@ Status encode_into(OIIO::ImageOutput& out, const std::string& name, const ImageV
   OIIO::TypeDesc type = e.depth == ImageBitDepth::k8    ? OIIO::TypeDesc::UINT8
                         : e.depth == ImageBitDepth::k16 ? OIIO::TypeDesc::UINT16
                                                         : OIIO::TypeDesc::FLOAT;
+  // The file's colour space: the format's own when encoding for it, else the values'.
+  const ColorSpace file_space = !options.encode_for_format         ? image.color_space
+                                : e.depth == ImageBitDepth::kFloat ? ColorSpace::kLinear
+                                                                   : ColorSpace::kSrgb;
+  const Transfer t = file_space == image.color_space     ? Transfer::kNone
+                     : file_space == ColorSpace::kLinear ? Transfer::kToLinear
+                                                         : Transfer::kToSrgb;
   OIIO::ImageSpec spec(image.width, image.height, channels, type);
+  if (options.tag_color_space) spec.attribute("oiio:ColorSpace", color_space_name(file_space));
   if (channels == 4) {
     spec.alpha_channel = 3;
     // Our values are unassociated (straight) alpha: stop OIIO dividing by it.
@@ -236,15 +298,15 @@ Status encode_into(OIIO::ImageOutput& out, const std::string& name, const ImageV
   }
   bool ok = false;
   if (e.depth == ImageBitDepth::k8) {
-    const auto q = quantize<uint8_t>(image, channels, 255.f);
+    const auto q = quantize<uint8_t>(image, channels, 255.f, t);
     ok = out.write_image(OIIO::TypeDesc::UINT8, q.data());
   } else if (e.depth == ImageBitDepth::k16) {
-    const auto q = quantize<uint16_t>(image, channels, 65535.f);
+    const auto q = quantize<uint16_t>(image, channels, 65535.f, t);
     ok = out.write_image(OIIO::TypeDesc::UINT16, q.data());
   } else {
     std::vector<float> f(n * channels);
     for (std::size_t i = 0; i < n; ++i) {
-      for (int k = 0; k < channels; ++k) f[i * channels + k] = image.data[i * 4 + k];
+      for (int k = 0; k < channels; ++k) f[i * channels + k] = file_value(image, i, k, t);
     }
     ok = out.write_image(OIIO::TypeDesc::FLOAT, f.data());
   }

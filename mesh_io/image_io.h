@@ -8,7 +8,23 @@
 //   3 channels: (r, g, b, 1)               4 channels: (r, g, b, a)
 //   more: the first three as RGB, alpha from the file's alpha channel or 1.
 // Integer formats are scaled to [0, 1] (uint8 / 255, uint16 / 65535); float
-// formats keep their values. No colour-space conversion happens on reading.
+// formats keep their values. No colour-space conversion happens on reading:
+// the values stay as stored and Image::color_space says how they are encoded
+// (issue #11), as OpenImageIO 2.4 reports it in "oiio:ColorSpace":
+//   - "linear", "Linear", "lin_srgb", "scene_linear", any name containing
+//     "linear", or a gamma of 1 ("GammaX" names with oiio:Gamma 1, e.g. a PNG
+//     with gAMA 1.0): ColorSpace::kLinear;
+//   - a name starting with "sRGB" (any case), or a gamma of 1.8 .. 2.6
+//     (a PNG with gAMA 1/2.2, a pure power curve read as the sRGB curve it
+//     approximates): ColorSpace::kSrgb;
+//   - no attribute (OIIO 2.4 gives none for TIFF without Exif colour space),
+//     or a name that is neither (e.g. "AdobeRGB", "ACEScg", other gammas): by
+//     the file's data type, float and half linear, 8/16-bit integer sRGB;
+//     such a name is kept in Image::unrecognised_color_space for a warning.
+// OIIO 2.4 reports "sRGB" for JPEG, for PNG without colour chunks and with an
+// sRGB chunk, "Linear" for every EXR (its EXR writer keeps no other name)
+// and "linear" for HDR; TIFF has the attribute only when tagged sRGB (Exif).
+// ImageReadOptions overrides the detection (--texture-colorspace).
 // NaN and infinite values (float formats) are read as 0 and counted in
 // Image::nonfinite_values. Pixels are decoded in bands of rows (tile rows
 // for tiled files) and the result is allocated after the first band has
@@ -22,7 +38,8 @@
 // or 16-bit, .exr as float; other extensions OIIO writes are accepted with
 // 8-bit data (16-bit / float where the format allows and requested). Values
 // are clamped to [0, 1] and rounded to nearest for integer outputs. Alpha is
-// written only when some pixel is not opaque.
+// written only when some pixel is not opaque. Colour spaces: see
+// ImageWriteOptions::encode_for_format and tag_color_space.
 #pragma once
 
 #include <filesystem>
@@ -44,11 +61,40 @@ struct Image {
   // read_image: NaN or infinite values in the file, read as 0 (a float
   // texture's holes must not poison interpolation); callers warn about them.
   std::size_t nonfinite_values = 0;
+  // The encoding of the values (read_image: detected or overridden, see above).
+  ColorSpace color_space = ColorSpace::kSrgb;
+  // read_image: the file's oiio:ColorSpace when it names neither sRGB nor
+  // linear light and the data type decided (empty otherwise, and always
+  // with an override); callers warn about it.
+  std::string unrecognised_color_space;
 
-  ImageView view() const { return {width, height, pixels.data()}; }
+  ImageView view() const { return {width, height, pixels.data(), color_space}; }
 };
 
-Expected<Image> read_image(const std::filesystem::path& path);
+// How to take a texture's colour space (--texture-colorspace).
+enum class TextureColorSpace {
+  kAuto,    // as OpenImageIO reports it (the rules above)
+  kSrgb,    // the values are sRGB-encoded, whatever the file says
+  kLinear,  // the values are linear light, whatever the file says
+};
+
+struct ImageReadOptions {
+  TextureColorSpace color_space = TextureColorSpace::kAuto;
+};
+
+Expected<Image> read_image(const std::filesystem::path& path, const ImageReadOptions& options = {});
+
+// The colour space the detection rules above give for an "oiio:ColorSpace"
+// value `name` ("" when the file has none), its "oiio:Gamma" (0 when none)
+// and whether the data type is floating point. `recognised`, when not null,
+// is set to false when `name` is non-empty and named neither space (the data
+// type decided). Exposed for tests.
+ColorSpace color_space_from_attributes(const std::string& name, float gamma, bool float_data,
+                                       bool* recognised = nullptr);
+
+// The name texbake tags a file of that colour space with ("oiio:ColorSpace"):
+// "sRGB" or "Linear", the names OpenImageIO 2.4 uses and reports (EXR).
+const char* color_space_name(ColorSpace space);
 
 // Size limits of read_image, checked on the file's header before any pixel
 // is decoded (a lying header must not make texbake allocate terabytes): at
@@ -83,6 +129,19 @@ struct ImageWriteOptions {
   // write_image only: stage the file into this set (mesh_io/atomic_file.h;
   // the caller commits it) instead of writing it at once.
   AtomicFileSet* file_set = nullptr;
+  // Colour space of the file (issue #11). false: the values are written as
+  // given, in the image's color_space (an EXR is read back as linear
+  // whatever its tag: OIIO 2.4 keeps none but "Linear"). true: they are first converted from
+  // the image's color_space to the format's own, linear light for float data
+  // (EXR, HDR, float TIFF) and sRGB-encoded for 8/16-bit data (PNG, JPEG,
+  // TIFF), by the sRGB curves of mapping/sample.h on R, G, B (alpha as is).
+  bool encode_for_format = false;
+  // Tag the file with the colour space its values are in ("oiio:ColorSpace",
+  // color_space_name(); OIIO writes a PNG's as gAMA + sRGB + cHRM chunks for
+  // "sRGB", gAMA 1.0 for "Linear", an EXR's as a header attribute). false:
+  // no tag, for PNGs embedded in a GLB: glTF fixes an image's space by its
+  // use and glTF-Validator warns about colour chunks (IMAGE_FEATURES_UNSUPPORTED).
+  bool tag_color_space = true;
 };
 
 // Precondition: image has at least 1x1 pixel.

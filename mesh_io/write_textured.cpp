@@ -291,6 +291,10 @@ Status write_textured_glb(const fs::path& path, const MeshData& mesh, const Imag
                      ImageWriteOptions io;
                      io.bit_depth = options.bit_depth;
                      io.png_compression = options.png_compression;
+                     // baseColorTexture is sRGB; glTF ignores PNG colour
+                     // chunks and its validator warns about them.
+                     io.encode_for_format = true;
+                     io.tag_color_space = false;
                      auto png = encode_image(atlas, ".png", io);
                      if (!png) return png.error();
                      prim.attributes["TEXCOORD_0"] =
@@ -330,6 +334,7 @@ Status write_textured_obj(const fs::path& path, const MeshData& mesh, const Imag
   ImageWriteOptions io;
   io.bit_depth = options.bit_depth;
   io.png_compression = options.png_compression;
+  io.encode_for_format = true;  // EXR linear, PNG sRGB, tagged
   io.file_set = &set;
   if (Status s = write_image(image_path, atlas, io); !s) return s;
   MeshWriteOptions mo;

@@ -9,7 +9,11 @@
 //
 // glTF conventions (glTF 2.0 specification, section 3.7 and 5.x):
 //  - TEXCOORD_0 has its origin at the image's top-left: t = 1 - v.
-//  - The atlas (baseColorTexture) is stored as the image's sRGB values.
+//  - The atlas (baseColorTexture) is stored as sRGB values (converted from
+//    the atlas view's color_space if it is linear), PNG without colour
+//    chunks (glTF fixes the space by the texture's use).
+//  - A textured OBJ's atlas is encoded for its format (issue #11): PNG
+//    sRGB-encoded and tagged "sRGB", EXR linear light and tagged "Linear".
 //  - COLOR_0 is linear: each RGB value goes through srgb_to_linear
 //    (mapping/sample.h), alpha is kept; stored as float VEC4.
 //  - GLB geometry is triangles (the faces' fan triangulation for vertex

@@ -32,6 +32,9 @@ struct SampleContext {
   // Per vertex, working encoding: the fill, when computed before the pass
   // (null: texels that need it are deferred, see Deferred).
   const std::vector<Rgba>* fill_colors = nullptr;
+  // --occluded R,G,B[,A] as given (sRGB-encoded): a texel all of whose
+  // samples take it stores it exactly, as the vertex target does.
+  Rgba occluded_color{};
   float* atlas = nullptr;    // size * size * 4
   uint8_t* baked = nullptr;  // size * size
 };
@@ -80,14 +83,18 @@ inline void add_fill(const MeshData& mesh, const std::vector<Rgba>& vc, uint32_t
   }
 }
 
+// An sRGB-encoded colour into texel t.
+inline void store_color(const SampleContext& ctx, uint32_t t, const Rgba& c) {
+  std::copy(c.begin(), c.end(), ctx.atlas + static_cast<std::size_t>(t) * 4);
+  ctx.baked[t] = 1;
+}
+
 // The texel mean into the atlas (back to sRGB when working in linear).
 inline void store_texel(const SampleContext& ctx, uint32_t t, const std::array<double, 4>& acc,
                         std::size_t spt) {
   Rgba mean;
   for (int ch = 0; ch < 4; ++ch) mean[ch] = static_cast<float>(acc[ch] / static_cast<double>(spt));
-  mean = ctx.shade.stored(mean);
-  std::copy(mean.begin(), mean.end(), ctx.atlas + static_cast<std::size_t>(t) * 4);
-  ctx.baked[t] = 1;
+  store_color(ctx, t, ctx.shade.stored(mean));
 }
 
 Vec3 sample_point(const MeshData& mesh, uint32_t t, float b1, float b2) {
@@ -167,6 +174,7 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
   for (std::size_t k = begin; k < end; ++k) {
     std::array<double, 4> acc{0, 0, 0, 0};
     bool any_fill = false;
+    std::size_t constants = 0;  // samples taking the --occluded colour
     for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
       const MapResult& m = w.maps[s - s0];
       const bool visible = w.visible[s - s0] != 0;
@@ -181,11 +189,18 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
         continue;
       }
       if (c.kind == Shade::kOutside) ++counts.outside;
+      if (c.kind == Shade::kConstant) ++constants;
       for (int ch = 0; ch < 4; ++ch) acc[ch] += c.color[ch];
     }
     const uint32_t t = r.texels[k];
     if (!any_fill) {
-      store_texel(ctx, t, acc, spt);
+      // Wholly occluded: the given colour itself, not its round trip through
+      // the working encoding (which may move 0.5 off 127.5 / 255).
+      if (constants == spt) {
+        store_color(ctx, t, ctx.occluded_color);
+      } else {
+        store_texel(ctx, t, acc, spt);
+      }
       continue;
     }
     // Occluded / undefined samples under --occluded fill (kProject fills
@@ -261,7 +276,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
     Expected<VertexBakeResult> vertex = bake_vertex_finish(mesh, std::move(*stage));
     if (!vertex) return vertex.error();
     std::vector<Rgba> vc = std::move(vertex->colors);  // sRGB-encoded
-    if (sh.linear) {
+    if (works_in_linear(image, sh.linear)) {
       for (Rgba& c : vc) c = srgb_to_linear(c);
     }
     return vc;
@@ -290,6 +305,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   ctx.mesh = &mesh;
   ctx.shade = make_shade_rule(working.view, proxy, sh);
   ctx.fill_colors = fill_first ? &fill_colors : nullptr;
+  ctx.occluded_color = sh.occluded_color;
   if (scene) {
     ctx.scene = &*scene;
     ctx.ray_offset = visibility_offset(*scene);

@@ -35,8 +35,14 @@
 // Covered texels are never changed by the padding. With an explicit N,
 // texels neither covered nor padded are transparent black (0, 0, 0, 0).
 // With options.shading.linear the image is linearised once, samples average
-// in linear and each texel is converted back to sRGB. Results do not depend
-// on the thread count.
+// in linear and each texel is converted back to sRGB; a linear image
+// (ImageView::color_space kLinear) is sampled as it is, in linear light, and
+// each texel converted to sRGB: the atlas is always sRGB-encoded (issue
+// #11; the writers encode it for their format). Under --occluded R,G,B a
+// texel all of whose samples are occluded or unmapped is the constant
+// (sRGB-encoded) exactly, as a vertex is in the vertex target; a texel
+// only partly so averages it with its other samples in the working
+// encoding. Results do not depend on the thread count.
 #pragma once
 
 #include <array>
@@ -96,7 +102,7 @@ struct AtlasBakeTimings {  // seconds
 };
 
 struct AtlasBakeResult {
-  Image atlas;                 // size x size RGBA, in the image's encoding
+  Image atlas;                 // size x size RGBA, sRGB-encoded (color_space kSrgb)
   std::vector<uint8_t> baked;  // size * size: 1 where covered by the layout
   AtlasBakeCounts counts;
   AtlasBakeTimings timings;

@@ -28,6 +28,7 @@
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/proxy_for_mesh.h"
 #include "bake/cli/report.h"
+#include "bake/cli/texture_flags.h"
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/file_name.h"
@@ -59,6 +60,7 @@ struct BakeCliOptions {
   KeywordOrColor outside{"clamp"};
   std::optional<WrapMode> wrap;
   bool linear = false;
+  TextureColorSpace texture_colorspace = TextureColorSpace::kAuto;
   std::string report;
   int threads = 0;
   bool quiet = false;
@@ -335,12 +337,13 @@ int run_bake(const BakeCliOptions& o) {
   report.fitted_flags = resolved->fitted_flags;
 
   stage_start = Clock::now();
-  Expected<Image> image = read_image(o.texture);
+  Expected<Image> image = read_image(o.texture, {o.texture_colorspace});
   if (!image) return report_error(image.error());
   report.load += seconds_since(stage_start);
   report.image_width = image->width;
   report.image_height = image->height;
   warn_nonfinite(*image, o.texture);
+  warn_color_space(*image, o.texture);
 
   std::string what, written = o.output;  // the summary line: what was baked, where
   if (atlas) {
@@ -449,7 +452,10 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
   add_choice_option<std::optional<WrapMode>>(
       *cmd, "--wrap", o->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
       "plane proxy only: clamp (default) or repeat (tile)");
-  cmd->add_flag("--linear", o->linear, "interpolate and average in linear light (sRGB image)");
+  cmd->add_flag("--linear", o->linear,
+                "interpolate and average in linear light (an sRGB texture; a linear one always "
+                "is)");
+  add_texture_colorspace_flag(*cmd, o->texture_colorspace, "--texture");
   add_photo_flags(*cmd, o->photos);
   cmd->add_option("--report", o->report, "write what was done as JSON to this file");
   cmd->add_option("--threads", o->threads, "worker threads (default: all cores)")

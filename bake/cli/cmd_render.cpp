@@ -18,6 +18,7 @@
 #include "bake/cli/file_checks.h"
 #include "bake/cli/geometry_flags.h"
 #include "bake/cli/proxy_for_mesh.h"
+#include "bake/cli/texture_flags.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/colmap_model.h"
 #include "texbake/texbake.h"
@@ -42,6 +43,7 @@ struct RenderArgs {
   std::string texture;
   std::string outside = "clamp";  // --outside clamp | R,G,B[,A]
   std::optional<WrapMode> wrap;   // --wrap clamp | repeat (plane proxy only)
+  TextureColorSpace texture_colorspace = TextureColorSpace::kAuto;
   GeometryFlags geometry;
   bool unlit = false;
   std::string colmap;  // --colmap DIR: each view a photo of a COLMAP workspace
@@ -231,9 +233,10 @@ int run_render(const RenderArgs& args) {
   const bool has_atlas = mesh.has_uvs() && !mesh.texture_path.empty();
   ColorChoice choice = args.colors;
   if (proxy) {
-    auto img = read_image(args.texture);
+    auto img = read_image(args.texture, {args.texture_colorspace});
     if (!img) return report_error(img.error());
     warn_nonfinite(*img, args.texture);
+    warn_color_space(*img, args.texture);
     texture = std::move(img).value();
     source =
         ProjectionSource{*proxy, texture.view(), outside, args.wrap.value_or(WrapMode::kClamp)};
@@ -248,9 +251,10 @@ int run_render(const RenderArgs& args) {
       return report_error(ErrorCode::kInvalidArgument,
                           "--colors atlas: '" + args.mesh + "' has no UVs with a texture");
     }
-    auto img = read_image(mesh.texture_path);
+    auto img = read_image(mesh.texture_path, {args.texture_colorspace});
     if (!img) return report_error(img.error());
     warn_nonfinite(*img, mesh.texture_path);
+    warn_color_space(*img, mesh.texture_path);
     texture = std::move(img).value();
     source = AtlasSource{texture.view()};
   } else if (choice == ColorChoice::kVertex) {
@@ -264,7 +268,12 @@ int run_render(const RenderArgs& args) {
   if (!args.colmap.empty()) return render_workspace(mesh, source, options, run, args);
   Expected<Rendered> rendered = render_mesh(mesh, source, options, run);
   if (!rendered) return report_mesh_error(rendered.error(), args.mesh);
-  if (Status st = write_image(output, rendered->image.view()); !st) return report_error(st.error());
+  // sRGB-encoded pixels, encoded for the output's format (PNG sRGB, EXR linear).
+  ImageWriteOptions wo;
+  wo.encode_for_format = true;
+  if (Status st = write_image(output, rendered->image.view(), wo); !st) {
+    return report_error(st.error());
+  }
   return 0;
 }
 
@@ -310,6 +319,8 @@ RunFunction add_render_command(CLI::App& app) {
   add_choice_option<std::optional<WrapMode>>(
       *cmd, "--wrap", args->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
       "plane proxy only: clamp (default) or repeat (tile), as in texbake bake");
+  add_texture_colorspace_flag(*cmd, args->texture_colorspace,
+                              "the texture read (--texture, or the mesh's own atlas)");
   add_geometry_flags(*cmd, args->geometry);
   cmd->add_flag("--flat", args->flat, "flat shading (geometric normals)");
   cmd->add_flag("--unlit", args->unlit,

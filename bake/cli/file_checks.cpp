@@ -55,4 +55,14 @@ void warn_nonfinite(const Image& image, const std::string& name) {
   }
 }
 
+void warn_color_space(const Image& image, const std::string& name) {
+  if (!image.unrecognised_color_space.empty()) {
+    const bool linear = image.color_space == ColorSpace::kLinear;
+    std::cerr << "texbake: warning: " << name << ": colour space '"
+              << image.unrecognised_color_space << "' is neither sRGB nor linear: read as "
+              << (linear ? "linear (float data)" : "sRGB (integer data)")
+              << " (--texture-colorspace sets it)\n";
+  }
+}
+
 }  // namespace texbake::cli

@@ -31,4 +31,10 @@ Status check_distinct_files(const std::vector<NamedFile>& inputs,
 // when the image had any (mesh_io/image_io.h, Image::nonfinite_values).
 void warn_nonfinite(const Image& image, const std::string& name);
 
+// Prints "texbake: warning: TEXTURE: colour space 'X' is neither sRGB nor
+// linear: read as linear (float data) (--texture-colorspace sets it)" when
+// read_image could not place the file's oiio:ColorSpace
+// (Image::unrecognised_color_space).
+void warn_color_space(const Image& image, const std::string& name);
+
 }  // namespace texbake::cli

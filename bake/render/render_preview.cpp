@@ -75,7 +75,10 @@ struct AtlasColor {
     const Float2 t2 = mesh->uvs[mesh->corner_uv[corners[2]]];
     const double b1 = hit.b1, b2 = hit.b2, b0 = 1.0 - b1 - b2;
     const UV uv{b0 * t0.u + b1 * t1.u + b2 * t2.u, b0 * t0.v + b1 * t1.v + b2 * t2.v};
-    return sample_bilinear(texture, uv, WrapMode::kClamp, WrapMode::kClamp);
+    const Rgba c = sample_bilinear(texture, uv, WrapMode::kClamp, WrapMode::kClamp);
+    // A linear texture (an EXR atlas) is interpolated in linear light, then
+    // sRGB-encoded like every other albedo.
+    return texture.color_space == ColorSpace::kLinear ? linear_to_srgb(c) : c;
   }
 };
 
@@ -423,8 +426,8 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
   const std::size_t tiles_per_view = static_cast<std::size_t>(tiles_x) * tiles_y;
   std::atomic<uint64_t> shadow_count{0};
 
-  // The projection's shading rule, once per render (its texture linearised
-  // once with `linear`).
+  // The projection's shading rule, once per render (an sRGB texture
+  // linearised once with `linear`; a linear one used as it is).
   WorkingImage projected;
   ShadeRule projection_rule;
   if (const auto* proj = std::get_if<ProjectionSource>(&source)) {

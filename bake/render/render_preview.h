@@ -31,9 +31,11 @@
 //    viewer (two-sided lighting: back faces are lit like front faces).
 //    vis_l is 0 when a shadow ray towards light l is blocked (only the key
 //    light casts shadows, and only with RenderOptions::shadows), else 1.
-//  - Shading is done on the colour source's stored values (no colour-space
-//    conversion), like the bake itself (a ProjectionSource with `linear`
-//    interpolates in linear light but gives its colour in the stored encoding).
+//  - Shading is done on sRGB-encoded albedos, like the bake itself gives
+//    them: an sRGB texture's stored values (a ProjectionSource with `linear`
+//    interpolates in linear light but gives its colour sRGB-encoded); a
+//    linear texture (ImageView::color_space kLinear, e.g. an EXR atlas) is
+//    interpolated in linear light and each sample sRGB-encoded.
 //  - Pixels have straight (unassociated) alpha, as PNG stores it: RGB = mean
 //    of the samples that hit the mesh, A = the fraction that hit. Pixels the
 //    mesh does not cover have exactly the background RGB and alpha 0 (so a
@@ -110,7 +112,8 @@ inline constexpr float kGreyAlbedo = 0.7f;
 struct VertexColorSource {};
 
 // A texture through the mesh's per-corner UVs (an OBJ + MTL atlas), sampled
-// bilinearly with clamped edges. Precondition: mesh.has_uvs(), texture >= 1x1.
+// bilinearly with clamped edges (a linear texture in linear light, each
+// sample then sRGB-encoded). Precondition: mesh.has_uvs(), texture >= 1x1.
 struct AtlasSource {
   ImageView texture;
 };
@@ -120,10 +123,11 @@ struct AtlasSource {
 // (bake/shade/shade.h): the texture sampled bilinearly with the proxy's wrap
 // rules (SPEC section 1; a plane with plane_wrap = kRepeat tiles, so nothing
 // is outside it), points outside the proxy's domain take `outside` when set
-// (--outside R,G,B[,A]), else the clamped sample; with `linear` the texture
-// is interpolated in linear light and each hit's colour encoded back to sRGB
-// (--linear). Points with no mapping (kUndefined) are grey. No visibility
-// test: this is the projected colour of every point.
+// (--outside R,G,B[,A]), else the clamped sample; with `linear` (--linear)
+// or a linear texture (ImageView::color_space kLinear) the texture is
+// interpolated in linear light and each hit's colour sRGB-encoded. Points
+// with no mapping (kUndefined) are grey. No visibility test: this is the
+// projected colour of every point.
 struct ProjectionSource {
   Proxy proxy;
   ImageView texture;

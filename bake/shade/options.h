@@ -43,17 +43,22 @@ struct VertexBakeOptions {
 
   Visibility visibility = Visibility::kFirst;
   OccludedMode occluded = OccludedMode::kFill;
-  // RGBA in [0, 1], in the image's stored (sRGB) encoding, used as is.
+  // RGBA in [0, 1], sRGB-encoded whatever the image's colour space (issue
+  // #11): an occluded vertex, or an atlas texel whose samples are all
+  // occluded, gets exactly this colour; a partly occluded texel averages it
+  // with its other samples in the working encoding.
   Rgba occluded_color{0, 0, 0, 1};
 
   OutsideMode outside = OutsideMode::kClamp;
-  // RGBA in [0, 1], in the image's stored (sRGB) encoding; with `linear` it is
-  // converted like the image before it enters an average.
+  // RGBA in [0, 1], sRGB-encoded; in a linear working encoding (`linear`, or
+  // a linear image) it is linearised before it enters an average.
   Rgba outside_color{0, 0, 0, 1};
 
   // SPEC section 1 --linear: convert the image's RGB from sRGB to linear once,
   // average in linear, convert each vertex's result back to sRGB. Alpha is
-  // never converted.
+  // never converted. An image whose ImageView::color_space is kLinear is
+  // always sampled in linear light (this flag changes nothing for it); the
+  // result is sRGB-encoded either way.
   bool linear = false;
 
   // The plane proxy's texture wrap (SPEC section 2 --wrap): kClamp (default)

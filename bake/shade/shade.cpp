@@ -11,7 +11,7 @@ namespace texbake {
 WorkingImage working_image(const ImageView& image, bool linear) {
   WorkingImage out;
   out.view = image;
-  if (!linear) return out;
+  if (!linear || image.color_space == ColorSpace::kLinear) return out;
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   out.pixels.assign(image.data, image.data + pixels * 4);
   float* data = out.pixels.data();
@@ -21,6 +21,7 @@ WorkingImage working_image(const ImageView& image, bool linear) {
     }
   });
   out.view.data = data;
+  out.view.color_space = ColorSpace::kLinear;
   return out;
 }
 
@@ -28,7 +29,7 @@ ShadeRule make_shade_rule(const ImageView& image, const Proxy& proxy,
                           const VertexBakeOptions& options) {
   ShadeRule rule;
   rule.image = image;
-  rule.linear = options.linear;
+  rule.linear = image.color_space == ColorSpace::kLinear;
   rule.wrap_u = wrap_u(proxy);
   rule.wrap_v = wrap_v(proxy);
   if (std::holds_alternative<Plane>(proxy) && options.plane_wrap == WrapMode::kRepeat) {

@@ -11,9 +11,14 @@
 //  - kOk: the image's bilinear sample (mapping/sample.h) at m.uv.
 //  Wrap rules: u wraps (periodic) for sphere, cylinder, cone and disk,
 //  everything else clamps; the plane with --wrap repeat tiles u and v.
-//  Colours are in the working encoding: the image's stored values, or linear
-//  light with --linear (the image is linearised once per job, constants are
-//  converted like it; callers average in it and convert back with stored()).
+//  Colours are in the working encoding: the image's stored values for an
+//  sRGB-encoded image, or linear light with --linear (the image is linearised
+//  once per job) or for a linear image (ImageView::color_space kLinear, used
+//  as it is: already linear, --linear changes nothing). Constants are given
+//  sRGB-encoded and converted like the image; callers average in the working
+//  encoding and convert back with stored(), so a bake's result is always
+//  sRGB-encoded (issue #11: for an sRGB image without --linear every value
+//  is exactly what it was before colour spaces were read).
 //  Occlusion, where it is decided per sample (the atlas), is part of the rule
 //  too: see ShadeRule::shade().
 //
@@ -47,14 +52,14 @@ struct Shaded {
 };
 
 struct ShadeRule {
-  ImageView image;  // in the working encoding (a linear copy with `linear`)
+  ImageView image;  // in the working encoding (a linear copy with --linear)
   WrapMode wrap_u = WrapMode::kClamp, wrap_v = WrapMode::kClamp;
   bool has_outside = true;        // false: a plane with --wrap repeat (tiles, nothing outside)
   bool outside_constant = false;  // --outside R,G,B[,A] (else clamp)
   Rgba outside_color{};           // working encoding
   OccludedMode occluded = OccludedMode::kFill;
   Rgba occluded_color{};  // working encoding
-  bool linear = false;    // the working encoding is linear light
+  bool linear = false;    // the working encoding is linear light (image.color_space kLinear)
 
   // The projected colour of a mapped point, no visibility involved: kImage,
   // kOutside, or kNone when m has no mapping.
@@ -87,15 +92,23 @@ struct ShadeRule {
     return project(m);
   }
 
-  // A colour of the working encoding in the image's stored encoding, and back
-  // (the sRGB curves on R, G, B with `linear`; alpha is never converted).
+  // A colour of the working encoding sRGB-encoded, and back (the sRGB curves
+  // on R, G, B with `linear`; alpha is never converted).
   Rgba stored(Rgba working) const { return linear ? linear_to_srgb(working) : working; }
   Rgba working(Rgba stored) const { return linear ? srgb_to_linear(stored) : stored; }
 };
 
-// The image in the working encoding: with `linear`, a copy whose R, G, B went
-// through srgb_to_linear (alpha unchanged), computed once, in parallel;
-// otherwise the image itself. Movable (view stays valid), not copyable.
+// True when a job samples `image` in linear light: --linear (`linear`), or
+// an image whose values are linear already.
+inline bool works_in_linear(const ImageView& image, bool linear) {
+  return linear || image.color_space == ColorSpace::kLinear;
+}
+
+// The image in the working encoding: for an sRGB-encoded image with
+// `linear`, a copy whose R, G, B went through srgb_to_linear (alpha
+// unchanged; view.color_space kLinear), computed once, in parallel;
+// otherwise the image itself (a linear image is used as it is). Movable
+// (view stays valid), not copyable.
 struct WorkingImage {
   std::vector<float> pixels;  // the linear copy (empty without `linear`)
   ImageView view;             // what to sample: `pixels`, or the input image
@@ -110,9 +123,10 @@ struct WorkingImage {
 WorkingImage working_image(const ImageView& image, bool linear);
 
 // The rule of one job: sampling `image` (already in the working encoding,
-// see working_image) through `proxy` with the shading fields of `options`
-// (outside, outside_color, occluded, occluded_color, linear, plane_wrap;
-// filter, samples and visibility are not the rule's). The constant colours
+// see working_image: linear when its color_space is kLinear) through `proxy`
+// with the shading fields of `options` (outside, outside_color, occluded,
+// occluded_color, plane_wrap; filter, samples and visibility are not the
+// rule's; `linear` was working_image's). The constant colours, sRGB-encoded,
 // are converted to the working encoding. The rule views `image`: keep its
 // pixels alive as long as the rule.
 ShadeRule make_shade_rule(const ImageView& image, const Proxy& proxy,

@@ -4,7 +4,7 @@
 //
 //   #include <texbake/texbake.h>
 //   auto mesh  = texbake::read_mesh("bunny.off");          // Expected<LoadedMesh>
-//   auto image = texbake::read_image("earth.jpg");         // Expected<Image>
+//   auto image = texbake::read_image("earth.jpg");         // Expected<Image>, sRGB
 //   texbake::ProxySpec spec{texbake::ProxyKind::kSphere};  // nothing given:
 //   auto proxy = texbake::complete_proxy(spec, mesh->mesh);  //   all fitted
 //   auto baked = texbake::bake_vertex_colors(mesh->mesh, image->view(), proxy->proxy);
@@ -34,6 +34,15 @@
 // ProxySpec (mapping/proxy_schema.h), the bake options (bake/shade/options.h,
 // bake/atlas/bake_atlas.h), the UV layout choice (bake/uv/uv_layout.h) and
 // the render options and colour sources (bake/render/render_preview.h).
+//
+// Colour spaces (issue #11; README "Colour spaces"): read_image reports the
+// texture's (Image::color_space, ImageReadOptions::color_space overrides it:
+// TextureColorSpace, --texture-colorspace), and an ImageView carries it
+// into the bakes: an sRGB texture is sampled as stored (or in linear light
+// with `linear`), a linear one in linear light. Every colour a bake returns
+// (VertexColors::colors, Atlas::image) is sRGB-encoded, whatever the input;
+// the writers encode for their format: PLY and OBJ vertex colours and PNG
+// atlases sRGB, GLB COLOR_0 and EXR atlases linear.
 //
 // Errors about the mesh (kInput from bake_vertex_colors, bake_atlas_texture,
 // render_mesh and check_triangles) do not name a file: the API never sees
@@ -160,7 +169,7 @@ Expected<CompletedProxy> complete_proxy(const ProxySpec& spec, const MeshData& m
 // ---- Vertex colours -------------------------------------------------------
 
 struct VertexColors {
-  std::vector<Rgba> colors;  // one per vertex, input order, RGBA in [0, 1]
+  std::vector<Rgba> colors;  // one per vertex, input order, RGBA in [0, 1], sRGB-encoded
   Stats stats;
 };
 
@@ -237,7 +246,7 @@ struct AtlasOptions {
 
 struct Atlas {
   MeshData mesh;          // the input with the per-corner UVs baked against
-  Image image;            // size x size RGBA, the image's encoding
+  Image image;            // size x size RGBA, sRGB-encoded (color_space kSrgb)
   bool repeat_u = false;  // the layout is periodic in u (kProxy on a periodic proxy)
   UvLayoutStats uv;
   Stats stats;
@@ -304,8 +313,9 @@ struct WriteOptions {
   Vec3 up{0, 0, 1};
 };
 
-// A mesh with per-vertex colours, by extension: .ply (binary little-endian,
-// or ASCII), .obj (v x y z r g b), .glb (COLOR_0, linear; NORMAL; Y-up node
+// A mesh with per-vertex colours (sRGB-encoded, as bakes give them), by
+// extension: .ply (binary little-endian, or ASCII; uchar sRGB), .obj
+// (v x y z r g b, sRGB in [0, 1]), .glb (COLOR_0, linear; NORMAL; Y-up node
 // matrix from options.up). Errors: kUsage
 // (unknown extension, ascii with non-PLY, not one colour per vertex),
 // kInput for I/O (naming the file).
@@ -314,6 +324,9 @@ Status write_vertex_colors(const std::filesystem::path& path, const MeshData& me
 
 // An atlas bake, by extension: .obj (+ .mtl + the atlas image beside it,
 // atlas_files() names them) or .glb (atlas embedded as PNG; kExr is kUsage).
+// The image is encoded for its format from atlas.image.color_space: PNG
+// sRGB-encoded (tagged "sRGB"; untagged inside a GLB), EXR linear light
+// (tagged "Linear").
 // The set is replaced all together or not at all. Errors: kUsage (another
 // extension, kExr with .glb), kInput for I/O (naming the file).
 Status write_atlas(const std::filesystem::path& path, const Atlas& atlas,

@@ -256,6 +256,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   ctx.mesh = &mesh;
   ctx.options = &options;
   ctx.shade = make_shade_rule(working.view, proxy, options);
+  stage.linear = ctx.shade.linear;
   Adjacency adjacency;
   if (options.filter == VertexFilter::kArea) {
     adjacency = build_adjacency(mesh);
@@ -340,7 +341,7 @@ Expected<VertexBakeResult> bake_vertex_finish(const MeshData& mesh, VertexBakeSt
     Expected<FillResult> filled = solve_fill(mesh, result.colors, std::move(stage.plan));
     if (!filled) return filled.error();
   }
-  if (options.linear) {
+  if (stage.linear) {
     parallel_for_chunks(n, 16384, [&](std::size_t begin, std::size_t end) {
       for (std::size_t v = begin; v < end; ++v) result.colors[v] = linear_to_srgb(result.colors[v]);
     });

@@ -29,6 +29,11 @@
 //
 // With options.linear the image is converted to linear once, samples, averages
 // and the fill happen in linear, and each result is converted back to sRGB.
+// A linear image (ImageView::color_space kLinear) is sampled, averaged and
+// filled as it is, in linear light, and each result converted to sRGB:
+// results are always sRGB-encoded (issue #11). Under --occluded R,G,B the
+// constant (sRGB-encoded) replaces the result of every occluded or unmapped
+// vertex exactly, whatever the working encoding.
 #pragma once
 
 #include <cstddef>
@@ -86,6 +91,7 @@ struct VertexBakeStage {
   std::vector<uint8_t> state;  // per vertex: visible, occluded or undefined
   FillPlan plan;
   VertexBakeOptions options;
+  bool linear = false;  // the working encoding is linear light (works_in_linear)
 };
 // shared_scene: a scene already built over mesh (EmbreeScene::build), used
 // for the visibility rays instead of building one (the atlas's --occluded
