@@ -184,17 +184,14 @@ void expect_all(const std::vector<Rgb8>& colors, const Rgb8& want, int tolerance
   }
 }
 
-// The covered texels (alpha > 0) of an atlas as OIIO reads it; every other
-// texel must be transparent black.
+// The covered texels (alpha > 0) of an atlas as OIIO reads it. The others
+// are the mip-safe padding's background (alpha 0, RGB pushed from the charts:
+// tests/bake/atlas/atlas_mip_test.cpp), not checked here.
 std::vector<const float*> covered_texels(const OiioImage& img) {
   std::vector<const float*> covered;
   for (int i = 0; i < img.width * img.height; ++i) {
     const float* p = img.pixel(i);
-    if (p[3] > 0) {
-      covered.push_back(p);
-    } else {
-      EXPECT_EQ(p[0] + p[1] + p[2], 0.f) << i;
-    }
+    if (p[3] > 0) covered.push_back(p);
   }
   return covered;
 }
