@@ -267,7 +267,7 @@ struct ImageArg {
   Image converted;    // ... or the conversion
 };
 
-ImageArg image_arg(const py::handle& obj, const char* name) {
+ImageArg image_arg_values(const py::handle& obj, const char* name) {
   ImageArg out;
   py::array a;
   try {
@@ -306,6 +306,23 @@ ImageArg image_arg(const py::handle& obj, const char* name) {
     for (int k = 0; k < 4; ++k) dst[k] = px[k];
   }
   out.view = out.converted.view();
+  return out;
+}
+
+// The colour space of an image argument: its `colorspace` attribute
+// (texbake.ImageArray: read_image's detection, or texbake.image(array,
+// colorspace)), "srgb" for a plain array.
+ColorSpace colorspace_arg(const py::handle& obj, const char* name) {
+  const std::string cs = py::str(py::getattr(obj, "colorspace", py::str("srgb")));
+  if (cs == "srgb") return ColorSpace::kSrgb;
+  if (cs == "linear") return ColorSpace::kLinear;
+  usage(std::string(name) + ".colorspace must be 'srgb' or 'linear', not '" + cs + "'");
+}
+
+// An image argument's values and colour space.
+ImageArg image_arg(const py::handle& obj, const char* name) {
+  ImageArg out = image_arg_values(obj, name);
+  out.view.color_space = colorspace_arg(obj, name);
   return out;
 }
 
@@ -576,13 +593,22 @@ PYBIND11_MODULE(_texbake, m) {
     py::gil_scoped_release release;
     return check(read_mesh(path));
   });
-  m.def("read_image", [](const std::filesystem::path& path) {
+  m.def("read_image", [](const std::filesystem::path& path, const std::string& colorspace) {
+    ImageReadOptions options;
+    if (colorspace == "srgb") {
+      options.color_space = TextureColorSpace::kSrgb;
+    } else if (colorspace == "linear") {
+      options.color_space = TextureColorSpace::kLinear;
+    } else if (colorspace != "auto") {
+      usage("colorspace must be 'auto', 'srgb' or 'linear', not '" + colorspace + "'");
+    }
     Image image;
     {
       py::gil_scoped_release release;
-      image = check(read_image(path));
+      image = check(read_image(path, options));
     }
-    return image_array(std::move(image));
+    const char* space = image.color_space == ColorSpace::kLinear ? "linear" : "srgb";
+    return py::make_tuple(image_array(std::move(image)), space);
   });
 
   // ---- Proxy ----

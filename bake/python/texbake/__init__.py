@@ -36,12 +36,16 @@ and propagates. `threads=0` uses all cores; results never depend on it.
 import json as _json
 import os as _os
 
+import numpy as _np
+
 from . import _texbake
 from ._texbake import Atlas, Cancelled, Mesh  # noqa: F401
 
 __version__ = _texbake.version()
 
 __all__ = [
+    "ImageArray",
+    "image",
     "Atlas", "Cancelled", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
     "bake_vertex", "compare", "fit", "map", "read_image", "read_mesh", "render",
     "write_atlas", "write_image", "write_vertex_colors",
@@ -95,13 +99,41 @@ def read_mesh(path):
     return _texbake.read_mesh(_os.fspath(path))
 
 
-def read_image(path):
-    """Read an image (anything OpenImageIO reads) as (h, w, 4) float32 RGBA.
+class ImageArray(_np.ndarray):
+    """An image array that knows the encoding of its values: `colorspace` is
+    'srgb' (sRGB-encoded, as 8/16-bit files are) or 'linear' (linear light,
+    as float files are). The bakes and the render sample it accordingly, as
+    the CLI does (README, Colour spaces). A plain numpy array is taken as
+    sRGB; wrap it with texbake.image(array, 'linear') otherwise."""
+
+    colorspace = "srgb"
+
+    def __array_finalize__(self, obj):
+        self.colorspace = getattr(obj, "colorspace", "srgb")
+
+
+def image(array, colorspace="srgb"):
+    """The array viewed as an ImageArray with that colour space ('srgb' or
+    'linear'); no copy. Errors: ValueError for another colour space."""
+    if colorspace not in ("srgb", "linear"):
+        raise ValueError("colorspace must be 'srgb' or 'linear', not %r" % (colorspace,))
+    out = _np.asarray(array).view(ImageArray)
+    out.colorspace = colorspace
+    return out
+
+
+def read_image(path, colorspace="auto"):
+    """Read an image (anything OpenImageIO reads) as an (h, w, 4) float32
+    RGBA ImageArray.
 
     Top row first; integer formats scaled to [0, 1]; 1 and 2 channel images
-    become grey RGB(A); no colour-space conversion. Errors: OSError.
+    become grey RGB(A); no colour-space conversion of the values. Its
+    `colorspace` is what the file says (oiio:ColorSpace; float data linear,
+    integer data sRGB), or `colorspace` ('srgb' or 'linear') when given, as
+    --texture-colorspace. Errors: OSError, ValueError.
     """
-    return _texbake.read_image(_os.fspath(path))
+    values, space = _texbake.read_image(_os.fspath(path), colorspace)
+    return image(values, space)
 
 
 # ---- Proxies ---------------------------------------------------------------
