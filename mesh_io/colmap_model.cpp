@@ -415,23 +415,27 @@ Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>
     }
     put<uint64_t>(img, images.size());
   } else {
-    cam =
-        "# Camera list with one line of data per camera:\n"
-        "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
-        "# Number of cameras: " +
-        std::to_string(cameras.size()) + "\n";
+    // (A stream, not operator+ chains: GCC 12 warns falsely about those, -Wrestrict.)
+    std::ostringstream c;
+    c << "# Camera list with one line of data per camera:\n"
+         "#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
+         "# Number of cameras: "
+      << cameras.size() << "\n";
     for (std::size_t k = 0; k < cameras.size(); ++k) {
-      cam += std::to_string(k + 1) + " " + std::string(camera_model_name(cameras[k]->model)) + " " +
-             std::to_string(cameras[k]->width) + " " + std::to_string(cameras[k]->height);
-      for (double p : cameras[k]->params) cam += " " + exact(p);
-      cam += "\n";
+      c << k + 1 << ' ' << camera_model_name(cameras[k]->model) << ' ' << cameras[k]->width << ' '
+        << cameras[k]->height;
+      for (double p : cameras[k]->params) c << ' ' << exact(p);
+      c << '\n';
     }
-    img =
-        "# Image list with two lines of data per image:\n"
-        "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
-        "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
-        "# Number of images: " +
-        std::to_string(images.size()) + "\n";
+    cam = c.str();
+  }
+  std::ostringstream text;
+  if (!binary) {
+    text << "# Image list with two lines of data per image:\n"
+            "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n"
+            "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
+            "# Number of images: "
+         << images.size() << "\n";
   }
   for (std::size_t i = 0; i < images.size(); ++i) {
     const CameraPose& pose = images[i].camera.spec().pose;
@@ -442,16 +446,16 @@ Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>
       for (double v : q) put(img, v);
       for (double v : {pose.t.x, pose.t.y, pose.t.z}) put(img, v);
       put<uint32_t>(img, camera_of[i]);
-      img += images[i].name;
-      img += '\0';
+      img.append(images[i].name).push_back('\0');
       put<uint64_t>(img, 0);
     } else {
-      img += std::to_string(id);
-      for (double v : q) img += " " + exact(v);
-      for (double v : {pose.t.x, pose.t.y, pose.t.z}) img += " " + exact(v);
-      img += " " + std::to_string(camera_of[i]) + " " + images[i].name + "\n\n";
+      text << id;
+      for (double v : q) text << ' ' << exact(v);
+      for (double v : {pose.t.x, pose.t.y, pose.t.z}) text << ' ' << exact(v);
+      text << ' ' << camera_of[i] << ' ' << images[i].name << "\n\n";
     }
   }
+  if (!binary) img = text.str();
   const std::string ext = binary ? ".bin" : ".txt";
   if (Status s = write_file(folder / ("cameras" + ext), cam); !s) return s;
   return write_file(folder / ("images" + ext), img);
