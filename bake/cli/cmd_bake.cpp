@@ -211,6 +211,7 @@ int run_bake_photos(const BakeCliOptions& o) {
   job.write.up = up_direction(o.geometry);
   job.threads = o.threads;
   job.quiet = o.quiet;
+  job.on_report = o.on_report;
   return run_photo_bake(job);
 }
 

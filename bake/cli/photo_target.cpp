@@ -125,11 +125,11 @@ int run_photo_bake(const PhotoJob& job) {
   }
   const double write = seconds_since(stage);
   const double total = seconds_since(start);
+  const std::string report = photo_report(job, *baked, load, write, total);
   if (!job.report.empty()) {
-    if (Status s = write_text(job.report, photo_report(job, *baked, load, write, total)); !s) {
-      return report_error(s.error());
-    }
+    if (Status s = write_text(job.report, report); !s) return report_error(s.error());
   }
+  if (job.on_report) job.on_report(report);
   if (!job.quiet) {
     const Counts& c = baked->stats.counts;
     std::printf(

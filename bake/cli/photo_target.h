@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -29,6 +30,7 @@ struct PhotoJob {
   WriteOptions write;
   int threads = 0;
   bool quiet = false;
+  std::function<void(const std::string&)> on_report;  // CliHooks::on_report (batch results)
 };
 
 // Checks (exit 2 for usage), reads the cameras and the mesh, bakes, writes

@@ -83,7 +83,7 @@ Expected<std::vector<CameraCheck>> check_camera_poses(const MeshData& mesh,
     check.in_front = total[0] / n;
     check.inside = total[1] / n;
     check.visible = total[2] / n;
-    if (check.in_front <= 0.5) {
+    if (check.inside < 0.5) {
       const CameraPose& pose = camera.spec().pose;
       // The inverse transform: X = R^T X_cam - R^T t read as world-to-camera.
       CameraPose inverse;
@@ -96,15 +96,17 @@ Expected<std::vector<CameraCheck>> check_camera_poses(const MeshData& mesh,
       flipped.t = {pose.t.x, -pose.t.y, -pose.t.z};
       const std::optional<CameraProjector> inv = with_pose(camera, inverse);
       const std::optional<CameraProjector> flip = with_pose(camera, flipped);
-      if (inv && inside_share(*inv, mesh, vertices) > 0.5) {
+      const double inv_inside = inv ? inside_share(*inv, mesh, vertices) : 0;
+      const double flip_inside = flip ? inside_share(*flip, mesh, vertices) : 0;
+      if (inv_inside > 0.5 && inv_inside > 2 * check.inside) {
         check.warnings.push_back("camera-to-world given as world-to-camera?");
-      } else if (flip && inside_share(*flip, mesh, vertices) > 0.5) {
+      } else if (flip_inside > 0.5 && flip_inside > 2 * check.inside) {
         check.warnings.push_back("OpenGL axes? (y and z flipped)");
-      } else {
+      } else if (check.in_front <= 0.5) {
         check.warnings.push_back("most of the mesh is behind the camera");
+      } else if (check.inside == 0) {
+        check.warnings.push_back("the mesh is outside the photo");
       }
-    } else if (check.inside == 0) {
-      check.warnings.push_back("the mesh is outside the photo");
     }
     out.push_back(std::move(check));
   }

@@ -4,14 +4,13 @@
 //   in_front: Z > 0 in the camera's axes;
 //   inside:   in front and inside the photo (and the distortion's valid radius);
 //   visible:  inside and the segment to the camera's centre is free.
-// Warnings, when at most half of the mesh is in front:
+// Warnings, when less than half of the mesh is inside the photo:
 //   "camera-to-world given as world-to-camera?" when the inverse pose puts
-//     more than half of the mesh inside the photo;
+//     more than half of the mesh (and twice as much) inside the photo;
 //   "OpenGL axes? (y and z flipped)" when the pose with its camera y and z
 //     negated does;
-//   else "most of the mesh is behind the camera".
-// And "the mesh is outside the photo" when it is in front but nothing of it
-// is inside.
+//   else "most of the mesh is behind the camera" when at most half is in
+//     front, or "the mesh is outside the photo" when none of it is inside.
 #pragma once
 
 #include <string>

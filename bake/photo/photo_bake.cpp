@@ -41,7 +41,7 @@ struct Sample {
 Expected<PhotoImage> read_photo_file(const Photo& photo) {
   Expected<Image> image = read_image(photo.path);
   if (!image) return image.error();
-  return PhotoImage{image->width, image->height, std::move(image->pixels)};
+  return PhotoImage{image->width, image->height, std::move(image->pixels), image->color_space};
 }
 
 // A photo of the camera's size, or of its aspect at another size (then
@@ -150,14 +150,17 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
           std::to_string(image->height) + ", its camera " + std::to_string(camera.spec().width) +
           " x " + std::to_string(camera.spec().height) + "; sampled at the camera's (u, v)");
     }
-    // Photos are sRGB-encoded: linearise once, so bilinear interpolation and
-    // the blend happen in linear light.
-    parallel_for_chunks(image->pixels.size() / 4, 1 << 16, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) {
-        for (int ch = 0; ch < 3; ++ch)
-          image->pixels[4 * i + ch] = srgb_to_linear(image->pixels[4 * i + ch]);
-      }
-    });
+    // Blend in linear light: an sRGB photo is linearised once, so bilinear
+    // interpolation happens in linear light too; a linear one is used as is.
+    if (image->color_space == ColorSpace::kSrgb) {
+      parallel_for_chunks(image->pixels.size() / 4, 1 << 16, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+          for (int ch = 0; ch < 3; ++ch) {
+            image->pixels[4 * i + ch] = srgb_to_linear(image->pixels[4 * i + ch]);
+          }
+        }
+      });
+    }
     const ImageView view{image->width, image->height, image->pixels.data()};
     const Vec3 centre = camera.centre();
     const int w = camera.spec().width, h = camera.spec().height;

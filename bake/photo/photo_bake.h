@@ -35,6 +35,7 @@
 #include "bake/shade/options.h"
 #include "mapping/camera.h"
 #include "mapping/error.h"
+#include "mapping/image_view.h"
 #include "mapping/sample.h"
 #include "mesh_io/mesh_data.h"
 
@@ -78,11 +79,13 @@ struct PhotoBakeResult {
   double seconds_scene = 0, seconds_photos = 0, seconds_blend = 0, seconds_fill = 0;
 };
 
-// Reads one photo: an RGBA float image, top row first, in the photo's stored
-// (sRGB) encoding. The default reads the file with mesh_io's read_image.
+// Reads one photo: an RGBA float image, top row first, and the encoding of
+// its values (sRGB for 8/16-bit photos, linear for EXR: mesh_io's rules).
+// The default reads the file with mesh_io's read_image.
 struct PhotoImage {
   int width = 0, height = 0;
   std::vector<float> pixels;
+  ColorSpace color_space = ColorSpace::kSrgb;
 };
 using PhotoReader = std::function<Expected<PhotoImage>(const Photo& photo)>;
 

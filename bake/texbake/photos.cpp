@@ -86,7 +86,7 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
       if (progress.cancelled()) return cancelled_error();
       Expected<Image> image = read_image(photo.path);
       if (!image) return image.error();
-      return PhotoImage{image->width, image->height, std::move(image->pixels)};
+      return PhotoImage{image->width, image->height, std::move(image->pixels), image->color_space};
     };
     Expected<PhotoBakeResult> baked = bake_vertex_from_photos(mesh, photos, options, reader);
     if (progress.cancelled()) return cancelled_error();

@@ -217,6 +217,25 @@ TEST(PhotoBake, CamerasBehindTheSurfaceSeeNothing) {
   EXPECT_EQ(r->colors[0], (Rgba{1, 0, 1, 1}));
 }
 
+TEST(PhotoBake, ALinearPhotoIsNotLinearisedAgain) {
+  // The same photo stored as linear values and tagged linear: the same bake.
+  const MeshData mesh = scene();
+  Shots srgb, linear;
+  srgb.add("top", down_camera(3), photo_of_plane(3, 1));
+  PhotoImage lin = photo_of_plane(3, 1);
+  for (std::size_t i = 0; i < lin.pixels.size(); ++i) {
+    if (i % 4 != 3) lin.pixels[i] = srgb_to_linear(lin.pixels[i]);
+  }
+  lin.color_space = ColorSpace::kLinear;
+  linear.add("top", down_camera(3), std::move(lin));
+  Expected<PhotoBakeResult> a = bake_vertex_from_photos(mesh, srgb.photos, {}, srgb.reader());
+  Expected<PhotoBakeResult> b = bake_vertex_from_photos(mesh, linear.photos, {}, linear.reader());
+  ASSERT_TRUE(a && b);
+  for (std::size_t v = 0; v < kGridVertices; ++v) {
+    for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(a->colors[v][ch], b->colors[v][ch], 1e-6) << v;
+  }
+}
+
 TEST(PhotoBake, PhotoSizes) {
   const MeshData mesh = scene();
   Shots half;
