@@ -88,33 +88,26 @@ TEST(PhotoRoundTripData, RendersBakedBackMatchTheDirectBake) {
   Expected<VertexColors> direct =
       bake_vertex_colors(w.mesh, w.earth.view(), w.proxy, direct_options);
   ASSERT_TRUE(direct) << direct.error().message;
+  // The renders, held in memory, as the photos.
+  const PhotoReader reader = [&](const Photo& p) -> Expected<PhotoImage> {
+    for (std::size_t i = 0; i < w.photos.size(); ++i) {
+      if (w.photos[i].name == p.name) return w.images[i];
+    }
+    return make_error(ErrorCode::kIo, "no such photo");
+  };
   PhotoBakeOptions o;
   o.exposure = ExposureMode::kNone;
-  Expected<PhotoBakeResult> baked =
-      bake_vertex_from_photos(w.mesh, w.photos, o, [&](const Photo& p) -> Expected<PhotoImage> {
-        for (std::size_t i = 0; i < w.photos.size(); ++i) {
-          if (w.photos[i].name == p.name) return w.images[i];
-        }
-        return make_error(ErrorCode::kIo, "no such photo");
-      });
+  Expected<PhotoBakeResult> baked = bake_vertex_from_photos(w.mesh, w.photos, o, reader);
   ASSERT_TRUE(baked) << baked.error().message;
   // Compare where some photo sees the vertex and the sphere's centre does
-  // too (the direct bake fills its own occluded vertices).
+  // too (the direct bake fills its own occluded vertices): both baked again
+  // with a magenta occluded colour mark the vertices they do not see.
   std::vector<uint8_t> seen(w.mesh.positions.size(), 0);
   std::size_t total_seen = 0;
-  // A vertex is seen when its colour did not come from the fill: recompute
-  // from the per-camera stats is not possible per vertex, so use the
-  // occluded colour trick: bake again with a magenta occluded colour.
   PhotoBakeOptions marked = o;
   marked.occluded = OccludedMode::kColor;
   marked.occluded_color = {1, 0, 1, 1};
-  Expected<PhotoBakeResult> m = bake_vertex_from_photos(
-      w.mesh, w.photos, marked, [&](const Photo& p) -> Expected<PhotoImage> {
-        for (std::size_t i = 0; i < w.photos.size(); ++i) {
-          if (w.photos[i].name == p.name) return w.images[i];
-        }
-        return make_error(ErrorCode::kIo, "no such photo");
-      });
+  Expected<PhotoBakeResult> m = bake_vertex_from_photos(w.mesh, w.photos, marked, reader);
   ASSERT_TRUE(m);
   VertexBakeOptions mark_direct = direct_options;
   mark_direct.occluded = OccludedMode::kColor;
