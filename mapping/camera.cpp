@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -361,9 +362,32 @@ CameraProjection CameraProjector::project(Vec3 world) const {
   const double a = p.x / p.z, b = p.y / p.z;
   out.pixel = pixel_of_normalised(a, b);
   out.uv = {out.pixel.x / spec_.width, 1 - out.pixel.y / spec_.height};
-  out.inside = a * a + b * b <= max_r2_ && out.pixel.x >= 0 && out.pixel.x <= spec_.width &&
-               out.pixel.y >= 0 && out.pixel.y <= spec_.height;
+  if (!(a * a + b * b <= max_r2_)) {
+    out.outside = CameraOutside::kFolded;
+  } else if (!(out.pixel.x >= 0 && out.pixel.x <= spec_.width && out.pixel.y >= 0 &&
+               out.pixel.y <= spec_.height)) {
+    out.outside = CameraOutside::kOffPhoto;
+  } else {
+    out.outside = CameraOutside::kNone;
+  }
+  out.inside = out.outside == CameraOutside::kNone;
   return out;
+}
+
+PhotoFit photo_fit(const CameraSpec& spec, int width, int height) {
+  const int w = spec.width, h = spec.height;
+  if (width == w && height == h) return PhotoFit::kExact;
+  const long long cross = static_cast<long long>(width) * h - static_cast<long long>(height) * w;
+  if (width > 0 && height > 0 && std::llabs(cross) < std::max(w, h)) return PhotoFit::kScaled;
+  return PhotoFit::kWrong;
+}
+
+MapResult CameraProjector::inverse_map(Vec3 world) const {
+  const CameraProjection proj = project(world);
+  const Vec3 to_camera = centre_ - world;
+  const double distance = length(to_camera);
+  if (!(distance > 0)) return {proj.uv, {0, 0, 0}, MapStatus::kUndefined};
+  return {proj.uv, to_camera / distance, proj.inside ? MapStatus::kOk : MapStatus::kOutside};
 }
 
 }  // namespace texbake

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mapping/error.h"
+#include "mapping/proxy.h"
 #include "mapping/vec.h"
 
 namespace texbake {
@@ -90,12 +91,28 @@ struct CameraSpec {
   CameraPose pose;
 };
 
+// Why a point is outside a camera's photo (SPEC section 9).
+enum class CameraOutside {
+  kNone,     // inside: in front, within the valid radius, inside the photo
+  kBehind,   // Z <= 0 in camera axes
+  kFolded,   // past the distortion's first turning point
+  kOffPhoto  // the pixel is outside [0, width] x [0, height]
+};
+
+// How a photo of `width` x `height` pixels fits the camera (SPEC section 9):
+// its size, or its aspect at another size (within one pixel: the camera's
+// (u, v) do not depend on the resolution), or neither (an error for the
+// caller).
+enum class PhotoFit { kExact, kScaled, kWrong };
+PhotoFit photo_fit(const CameraSpec& spec, int width, int height);
+
 // Where a world point lands in the photo.
 struct CameraProjection {
   bool inside = false;  // in front, inside the photo, within the distortion's valid radius
   Vec2 pixel{0, 0};     // (x, y), COLMAP convention (valid when the point is in front)
   UV uv{0, 0};          // (x / width, 1 - y / height)
   double depth = 0;     // z in camera axes
+  CameraOutside outside = CameraOutside::kBehind;
 };
 
 class CameraProjector {
@@ -120,6 +137,12 @@ class CameraProjector {
   // P in world coordinates to the photo: outside when Z <= 0, r^2 past
   // max_radius2(), or the pixel outside [0, width] x [0, height].
   CameraProjection project(Vec3 world) const;
+  // The camera as a proxy (SPEC section 9: a "camera" proxy file): (u, v)
+  // of project(), kOk when inside, else kOutside (behind the camera, past
+  // the turning point or off the photo; uv is then project()'s, meaningless
+  // behind the camera); to_projector = normalize(C - P) (kUndefined at
+  // P = C).
+  MapResult inverse_map(Vec3 world) const;
 
  private:
   CameraSpec spec_;

@@ -12,6 +12,7 @@
 
 #include "mapping/proxy_schema.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/camera_json.h"
 #include "mesh_io/json_strict.h"
 #include "mesh_io/regular_file.h"
 
@@ -161,6 +162,11 @@ Expected<ProxyParams> proxy_params_from_json(std::string_view text, const std::s
   if (!kind_it->is_string()) return in.fail("key 'kind' must be a string");
   const std::string kind_name = kind_it->get<std::string>();
   const std::optional<ProxyKind> kind = parse_proxy_kind(kind_name);
+  if (kind_name == "camera") {
+    return in.fail(
+        "key 'kind': a camera is not an analytic proxy (cameras work with map, bake and "
+        "render)");
+  }
   if (!kind) {
     return in.fail("key 'kind': unknown proxy kind '" + kind_name +
                    "' (expected sphere, cylinder, cone, disk, quad or plane)");
@@ -177,7 +183,9 @@ Expected<Proxy> proxy_from_json(std::string_view text, const std::string& source
   return proxy;
 }
 
-Expected<Proxy> read_proxy_file(const std::filesystem::path& path) {
+namespace {
+
+Expected<std::string> read_proxy_text(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
     return make_error(ErrorCode::kIo,
@@ -193,7 +201,35 @@ Expected<Proxy> read_proxy_file(const std::filesystem::path& path) {
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) return make_error(ErrorCode::kIo, "cannot read proxy file " + path.string());
-  return proxy_from_json(text.str(), path.string());
+  return text.str();
+}
+
+}  // namespace
+
+Expected<Proxy> read_proxy_file(const std::filesystem::path& path) {
+  Expected<std::string> text = read_proxy_text(path);
+  if (!text) return text.error();
+  return proxy_from_json(*text, path.string());
+}
+
+Expected<Projector> projector_from_json(std::string_view text, const std::string& source) {
+  Expected<json> parsed = parse_json_object(text, source);
+  if (!parsed) return parsed.error();
+  const auto kind = parsed->find("kind");
+  if (kind != parsed->end() && kind->is_string() && kind->get<std::string>() == "camera") {
+    Expected<CameraProjector> camera = camera_from_json(text, source);
+    if (!camera) return camera.error();
+    return Projector{std::move(camera).value()};
+  }
+  Expected<Proxy> proxy = proxy_from_json(text, source);
+  if (!proxy) return proxy.error();
+  return Projector{*proxy};
+}
+
+Expected<Projector> read_projector_file(const std::filesystem::path& path) {
+  Expected<std::string> text = read_proxy_text(path);
+  if (!text) return text.error();
+  return projector_from_json(*text, path.string());
 }
 
 std::string proxy_params_to_json(const ProxyParams& params, int indent) {

@@ -23,6 +23,7 @@
 #include <string_view>
 
 #include "mapping/error.h"
+#include "mapping/projector.h"
 #include "mapping/proxy.h"
 
 namespace texbake {
@@ -34,8 +35,17 @@ Expected<Proxy> proxy_from_json(std::string_view text, const std::string& source
 Expected<ProxyParams> proxy_params_from_json(std::string_view text,
                                              const std::string& source = "proxy JSON");
 
-// Reads and validates a proxy file.
+// Reads and validates a proxy file. A camera file ("kind":"camera") is an
+// error here (kParse): the commands that take cameras read proxy files with
+// read_projector_file.
 Expected<Proxy> read_proxy_file(const std::filesystem::path& path);
+
+// A proxy file that holds an analytic proxy or a camera (SPEC section 9,
+// mesh_io/camera_json.h): "kind":"camera" is read by camera_from_json, any
+// other kind by proxy_from_json, with their errors.
+Expected<Projector> projector_from_json(std::string_view text,
+                                        const std::string& source = "proxy JSON");
+Expected<Projector> read_projector_file(const std::filesystem::path& path);
 
 // The proxy's parameters (params_of: equator filled in) as a JSON object;
 // numbers are printed so that they read back exactly. indent < 0: one line;

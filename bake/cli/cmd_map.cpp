@@ -1,5 +1,8 @@
 // texbake map: the inverse mapping as a calculator (SPEC section 5, issue #2).
 //   texbake map --proxy KIND [geometry] (--point x,y,z | --dir x,y,z) [--image WxH] [--json]
+//   texbake map --proxy-file CAMERA.json --point x,y,z [--json]
+// A camera (SPEC section 9) prints the photo pixel (x, y) in COLMAP's
+// convention as well as (u, v); behind the camera x, y, u and v are null.
 // --point is a world point for every proxy. --dir is for the sphere only: it
 // is the normal Sn itself (the point center + dir); for the other proxies a
 // direction alone does not fix a point, so it is a usage error there.
@@ -67,12 +70,93 @@ std::string vector_text(Vec3 v) {
   return number(v.x) + ", " + number(v.y) + ", " + number(v.z);
 }
 
+const char* outside_reason(CameraOutside o) {
+  switch (o) {
+    case CameraOutside::kNone:
+      return "";
+    case CameraOutside::kBehind:
+      return "behind the camera";
+    case CameraOutside::kFolded:
+      return "past the distortion's turning point";
+    case CameraOutside::kOffPhoto:
+      return "outside the photo";
+  }
+  return "";
+}
+
+// A camera (SPEC section 9): the photo pixel (x, y) in COLMAP's convention
+// and (u, v) = (x / width, 1 - y / height).
+int run_map_camera(const MapOptions& options, const CameraProjector& camera) {
+  if (options.dir) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--dir applies only to a sphere (it gives the normal Sn); use --point "
+                        "for a camera");
+  }
+  if (options.image) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--image does not apply to a camera (its photo's size is the camera's; "
+                        "x and y are always printed)");
+  }
+  const Vec3 point = *options.point;
+  const CameraProjection proj = camera.project(point);
+  const MapResult r = camera.inverse_map(point);
+  const bool in_front = proj.outside != CameraOutside::kBehind;
+  if (options.json) {
+    nlohmann::ordered_json out;
+    if (in_front) {
+      out["u"] = proj.uv.u;
+      out["v"] = proj.uv.v;
+    } else {
+      out["u"] = nullptr;
+      out["v"] = nullptr;
+    }
+    out["status"] = proj.inside ? "ok" : "outside";
+    if (!proj.inside) out["reason"] = outside_reason(proj.outside);
+    if (in_front) {
+      out["x"] = proj.pixel.x;
+      out["y"] = proj.pixel.y;
+    } else {
+      out["x"] = nullptr;
+      out["y"] = nullptr;
+    }
+    out["depth"] = proj.depth;
+    std::printf("%s\n", out.dump().c_str());
+    return 0;
+  }
+  const CameraSpec& spec = camera.spec();
+  std::printf("proxy    camera (%s, %d x %d)\n", std::string(camera_model_name(spec.model)).c_str(),
+              spec.width, spec.height);
+  std::printf("point    %s\n", vector_text(point).c_str());
+  if (in_front) {
+    std::printf("u        %s\n", number(proj.uv.u).c_str());
+    std::printf("v        %s\n", number(proj.uv.v).c_str());
+  }
+  if (proj.inside) {
+    std::printf("status   ok\n");
+  } else {
+    std::printf("status   outside (%s)\n", outside_reason(proj.outside));
+  }
+  std::printf("depth    %s (z in camera axes)\n", number(proj.depth).c_str());
+  std::printf("d(P)     %s (towards the camera centre %s)\n", vector_text(r.to_projector).c_str(),
+              vector_text(camera.centre()).c_str());
+  if (in_front) {
+    std::printf(
+        "pixel    x %s, y %s in the %d x %d photo (COLMAP: the top-left pixel's centre is "
+        "0.5, 0.5)\n",
+        number(proj.pixel.x).c_str(), number(proj.pixel.y).c_str(), spec.width, spec.height);
+  }
+  return 0;
+}
+
 int run_map(const MapOptions& options) {
   if (!options.point && !options.dir) {
     return report_error(ErrorCode::kInvalidArgument, "missing --point X,Y,Z or --dir X,Y,Z");
   }
-  Expected<Proxy> proxy = proxy_from_flags(options.geometry);
-  if (!proxy) return report_error(proxy.error());
+  Expected<Projector> projector = projector_from_flags(options.geometry);
+  if (!projector) return report_error(projector.error());
+  if (const CameraProjector* camera = as_camera(*projector))
+    return run_map_camera(options, *camera);
+  const Expected<Proxy> proxy = *as_proxy(*projector);
 
   Vec3 point;
   if (options.dir) {
@@ -137,7 +221,9 @@ RunFunction add_map_command(CLI::App& app) {
       "Print the proxy's inverse mapping (u, v) of a point: the inverse-mapping calculator.\n"
       "Example (SPEC section 2's worked example):\n"
       "  texbake map --proxy sphere --center 0,0,0 --radius 1 --pole 0,0,1 --equator 1,0,0 "
-      "--dir 1,1,1 --json");
+      "--dir 1,1,1 --json\n"
+      "A camera file (--proxy-file CAM.json, \"kind\":\"camera\") prints the photo pixel x, y "
+      "(COLMAP's convention: the top-left pixel's centre is 0.5, 0.5) as well as u, v.");
   add_geometry_flags(*cmd, options->geometry);
   CLI::Option* point =
       cmd->add_option_function<std::string>(
@@ -157,7 +243,8 @@ RunFunction add_map_command(CLI::App& app) {
          "also print the pixel position in a W x H image (SPEC section 1)")
       ->type_name("WxH");
   cmd->add_flag("--json", options->json,
-                "print one JSON object {\"u\",\"v\",\"status\"[,\"x\",\"y\"]}");
+                "print one JSON object {\"u\",\"v\",\"status\"[,\"x\",\"y\"]} (a camera: "
+                "u, v, status, reason when outside, x, y, depth)");
   return [options] { return run_map(*options); };
 }
 

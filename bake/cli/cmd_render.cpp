@@ -181,6 +181,7 @@ int run_render(const RenderArgs& args) {
   // A complete proxy (all geometry flags, or a file) is validated now;
   // missing geometry flags are fitted to the mesh once it is loaded.
   std::optional<Proxy> proxy;
+  std::optional<CameraProjector> camera;  // a camera --proxy-file (SPEC section 9)
   // --up also orients the camera, so with --proxy-file (which holds the whole
   // proxy) it is the camera's alone, not a geometry flag.
   GeometryFlags projection = args.geometry;
@@ -190,11 +191,20 @@ int run_render(const RenderArgs& args) {
       return report_error(st.error());
     }
     if (projection.proxy_file || missing_geometry_flags(projection, *projection.kind).empty()) {
-      auto p = proxy_from_flags(projection);
+      auto p = projector_from_flags(projection);
       if (!p) return report_error(p.error());
-      proxy = std::move(p).value();
+      if (const CameraProjector* c = as_camera(*p)) {
+        camera = *c;
+      } else {
+        proxy = *as_proxy(*p);
+      }
     }
-    if (args.wrap && (proxy ? kind_of(*proxy) : *args.geometry.kind) != ProxyKind::kPlane) {
+    if (camera && args.wrap) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          "--wrap applies to the plane proxy only (a camera's photo clamps)");
+    }
+    if (!camera && args.wrap &&
+        (proxy ? kind_of(*proxy) : *args.geometry.kind) != ProxyKind::kPlane) {
       return report_error(ErrorCode::kInvalidArgument,
                           "--wrap applies to the plane proxy only (the others' wrap is fixed)");
     }
@@ -220,7 +230,7 @@ int run_render(const RenderArgs& args) {
   const MeshData& mesh = loaded->mesh;
   // Nothing to render is the mesh's problem, reported before a fit's.
   if (Status st = check_triangles(mesh); !st) return report_mesh_error(st.error(), args.mesh);
-  if (projecting && !proxy) {
+  if (projecting && !proxy && !camera) {
     auto fitted = proxy_for_mesh(projection, mesh, args.mesh, &std::cerr, run);
     if (!fitted) return report_error(fitted.error());
     proxy = std::move(fitted->proxy);
@@ -232,14 +242,31 @@ int run_render(const RenderArgs& args) {
   Image texture;
   const bool has_atlas = mesh.has_uvs() && !mesh.texture_path.empty();
   ColorChoice choice = args.colors;
-  if (proxy) {
+  if (proxy || camera) {
     auto img = read_image(args.texture, {args.texture_colorspace});
     if (!img) return report_error(img.error());
     warn_nonfinite(*img, args.texture);
     warn_color_space(*img, args.texture);
     texture = std::move(img).value();
-    source =
-        ProjectionSource{*proxy, texture.view(), outside, args.wrap.value_or(WrapMode::kClamp)};
+    if (camera) {
+      const CameraSpec& spec = camera->spec();
+      const PhotoFit fit = photo_fit(spec, texture.width, texture.height);
+      const std::string sizes = std::to_string(texture.width) + " x " +
+                                std::to_string(texture.height) + ", its camera " +
+                                std::to_string(spec.width) + " x " + std::to_string(spec.height);
+      if (fit == PhotoFit::kWrong) {
+        return report_error(ErrorCode::kParse, args.texture + ": the photo is " + sizes +
+                                                   " (neither that size nor that aspect)");
+      }
+      if (fit == PhotoFit::kScaled) {
+        std::cerr << "texbake: warning: " << args.texture << ": the photo is " << sizes
+                  << "; sampled at the camera's (u, v)\n";
+      }
+      source = CameraProjectionSource{*camera, texture.view(), outside};
+    } else {
+      source =
+          ProjectionSource{*proxy, texture.view(), outside, args.wrap.value_or(WrapMode::kClamp)};
+    }
     choice = ColorChoice::kNone;  // handled
   } else if (choice == ColorChoice::kAuto) {
     choice = has_atlas                  ? ColorChoice::kAtlas
@@ -308,13 +335,15 @@ RunFunction add_render_command(CLI::App& app) {
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  cmd->add_option("--texture", args->texture,
-                  "image projected through --proxy/--proxy-file onto every hit (no visibility "
-                  "test): the ground truth a bake is compared with. Geometry flags not given are "
-                  "fitted to the mesh, as in texbake bake");
+  cmd->add_option(
+      "--texture", args->texture,
+      "image projected through --proxy/--proxy-file onto every hit (no visibility "
+      "test): the ground truth a bake is compared with; with a camera --proxy-file, its "
+      "photo. Geometry flags not given are fitted to the mesh, as in texbake bake");
   cmd->add_option("--outside", args->outside,
                   "points outside the proxy's (u, v) domain: clamp (to the edge texel) or "
-                  "R,G,B[,A] in [0, 1]")
+                  "R,G,B[,A] in [0, 1]; a camera's points off its photo or behind it are grey "
+                  "unless R,G,B[,A] is given")
       ->capture_default_str();
   add_choice_option<std::optional<WrapMode>>(
       *cmd, "--wrap", args->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},

@@ -174,7 +174,8 @@ void add_geometry_flags(CLI::App& command, GeometryFlags& flags) {
   CLI::Option* file = command.add_option_function<std::string>(
       "--proxy-file", [&flags](const std::string& path) { flags.proxy_file = path; },
       "read the proxy from a JSON file (as written by texbake fit) instead of --proxy and "
-      "geometry flags");
+      "geometry flags; map, bake and render also take a camera (\"kind\":\"camera\", SPEC "
+      "section 9)");
   file->type_name("FILE");
   file->excludes(kind);
 
@@ -255,6 +256,14 @@ Expected<ProxyParams> merge_flags(const GeometryFlags& flags, ProxyParams fitted
                  ", not the --proxy " + to_string(*flags.kind));
   }
   return merge_spec(spec_of_kind(flags, kind_of(fitted)), std::move(fitted), ParamNaming::kFlag);
+}
+
+Expected<Projector> projector_from_flags(const GeometryFlags& flags) {
+  if (Status s = check_combination(flags, /*require_proxy=*/true); !s) return s.error();
+  if (flags.proxy_file) return read_projector_file(*flags.proxy_file);
+  Expected<Proxy> proxy = proxy_from_flags(flags);
+  if (!proxy) return proxy.error();
+  return Projector{*proxy};
 }
 
 Expected<Proxy> proxy_from_flags(const GeometryFlags& flags) {

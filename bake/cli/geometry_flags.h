@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "mapping/error.h"
+#include "mapping/projector.h"
 #include "mapping/proxy.h"
 #include "mapping/proxy_schema.h"
 
@@ -97,5 +98,8 @@ Expected<ProxyParams> merge_flags(const GeometryFlags& flags, ProxyParams fitted
 // or build from the flags and validate with make_proxy (errors kInvalidArgument: exit 2, naming the
 // flag).
 Expected<Proxy> proxy_from_flags(const GeometryFlags& flags);
+// The same for commands that also take a camera: a --proxy-file may hold a
+// camera ("kind":"camera", SPEC section 9).
+Expected<Projector> projector_from_flags(const GeometryFlags& flags);
 
 }  // namespace texbake::cli

@@ -383,6 +383,10 @@ Status validate_color_source(const MeshData& mesh, const ColorSource& source) {
     if (proj->texture.width < 1 || proj->texture.height < 1 || !proj->texture.data) {
       return bad("the projected texture has no pixels");
     }
+  } else if (const auto* cam = std::get_if<CameraProjectionSource>(&source)) {
+    if (cam->texture.width < 1 || cam->texture.height < 1 || !cam->texture.data) {
+      return bad("the projected photo has no pixels");
+    }
   }
   return ok_status();
 }
@@ -438,6 +442,13 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
     shading.linear = proj->linear;
     shading.plane_wrap = proj->plane_wrap;
     projection_rule = make_shade_rule(projected.view, proj->proxy, shading);
+  } else if (const auto* cam = std::get_if<CameraProjectionSource>(&source)) {
+    projected = working_image(cam->texture, cam->linear);
+    VertexBakeOptions shading;
+    shading.outside = OutsideMode::kColor;
+    shading.outside_color = cam->outside.value_or(Rgba{kGreyAlbedo, kGreyAlbedo, kGreyAlbedo, 1});
+    shading.linear = cam->linear;
+    projection_rule = make_camera_shade_rule(projected.view, shading);
   }
 
   // Lights are fixed to the camera; the directions are per view.
@@ -481,6 +492,9 @@ Expected<RenderImage> render_preview(const MeshData& mesh, const EmbreeScene& sc
             } else if constexpr (std::is_same_v<S, AtlasSource>) {
               render_tile(ctx, job, AtlasColor{&mesh, src.texture}, lights, scratch,
                           image.pixels.data(), shadow_count);
+            } else if constexpr (std::is_same_v<S, CameraProjectionSource>) {
+              render_tile(ctx, job, ProjectedColor<CameraProjector>{&src.camera, &projection_rule},
+                          lights, scratch, image.pixels.data(), shadow_count);
             } else {
               std::visit(
                   [&](const auto& proxy) {

@@ -136,7 +136,22 @@ struct ProjectionSource {
   bool linear = false;                     // --linear
 };
 
-using ColorSource = std::variant<GreySource, VertexColorSource, AtlasSource, ProjectionSource>;
+// A photo through a calibrated camera (SPEC section 9, a "camera" proxy
+// file): the ground truth of a single-camera bake. The hit point is
+// projected through the camera's lens model and the photo sampled
+// bilinearly (clamped; in linear light with `linear` or for a linear photo,
+// then sRGB-encoded); points the camera does not map (behind it, past the
+// distortion's turning point, off the photo) take `outside` when set, else
+// grey. No visibility test, as for ProjectionSource.
+struct CameraProjectionSource {
+  CameraProjector camera;
+  ImageView texture;
+  std::optional<Rgba> outside;
+  bool linear = false;
+};
+
+using ColorSource = std::variant<GreySource, VertexColorSource, AtlasSource, ProjectionSource,
+                                 CameraProjectionSource>;
 
 // Checks the source's preconditions against the mesh (kInvalidArgument).
 Status validate_color_source(const MeshData& mesh, const ColorSource& source);

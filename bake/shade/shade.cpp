@@ -25,22 +25,36 @@ WorkingImage working_image(const ImageView& image, bool linear) {
   return out;
 }
 
-ShadeRule make_shade_rule(const ImageView& image, const Proxy& proxy,
+namespace {
+
+ShadeRule rule_with_wraps(const ImageView& image, WrapMode u, WrapMode v,
                           const VertexBakeOptions& options) {
   ShadeRule rule;
   rule.image = image;
   rule.linear = image.color_space == ColorSpace::kLinear;
-  rule.wrap_u = wrap_u(proxy);
-  rule.wrap_v = wrap_v(proxy);
-  if (std::holds_alternative<Plane>(proxy) && options.plane_wrap == WrapMode::kRepeat) {
-    rule.wrap_u = rule.wrap_v = WrapMode::kRepeat;
-    rule.has_outside = false;
-  }
+  rule.wrap_u = u;
+  rule.wrap_v = v;
   rule.outside_constant = options.outside == OutsideMode::kColor;
   rule.outside_color = rule.working(options.outside_color);
   rule.occluded = options.occluded;
   rule.occluded_color = rule.working(options.occluded_color);
   return rule;
+}
+
+}  // namespace
+
+ShadeRule make_shade_rule(const ImageView& image, const Proxy& proxy,
+                          const VertexBakeOptions& options) {
+  ShadeRule rule = rule_with_wraps(image, wrap_u(proxy), wrap_v(proxy), options);
+  if (std::holds_alternative<Plane>(proxy) && options.plane_wrap == WrapMode::kRepeat) {
+    rule.wrap_u = rule.wrap_v = WrapMode::kRepeat;
+    rule.has_outside = false;
+  }
+  return rule;
+}
+
+ShadeRule make_camera_shade_rule(const ImageView& image, const VertexBakeOptions& options) {
+  return rule_with_wraps(image, WrapMode::kClamp, WrapMode::kClamp, options);
 }
 
 }  // namespace texbake

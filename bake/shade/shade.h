@@ -131,5 +131,9 @@ WorkingImage working_image(const ImageView& image, bool linear);
 // pixels alive as long as the rule.
 ShadeRule make_shade_rule(const ImageView& image, const Proxy& proxy,
                           const VertexBakeOptions& options);
+// The same for a camera's photo (mapping/camera.h): both axes clamp (a
+// photo does not repeat), and everything outside the photo (behind the
+// camera, past the distortion's turning point, off the photo) is kOutside.
+ShadeRule make_camera_shade_rule(const ImageView& image, const VertexBakeOptions& options);
 
 }  // namespace texbake
