@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# Baking from photographs at scale (issue #13): the bunny and the armadillo
+# subdivided to 832k triangles, each photographed from 24 known cameras at
+# 1920 x 1080 (texbake's own unlit render of the Earth map projected from a
+# fitted sphere, written as a COLMAP workspace), then baked back with
+# `bake --cameras` per vertex and into a 2048 atlas. A benchmark run by hand,
+# not part of the ctest suite.
+#
+#   bench/photos/run.sh [-n N] [-w WORKDIR] [-t vertex|atlas|all]
+#
+#   -n N     repetitions of every bake (default 3; the table shows medians)
+#   -w DIR   work folder: meshes, photos, outputs (default
+#            ${TMPDIR:-/tmp}/texbake_photos)
+#   -t T     targets to time (default all)
+#
+# Builds build/texbake (Release) when it is not there. Every bake writes a
+# --report; the stage times (load, scene, photos, fill, write) come from it
+# and the peak memory from /usr/bin/time -v (maximum resident set size).
+# Prints a Markdown table.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# shellcheck source-path=SCRIPTDIR source=../../scripts/setup.sh
+source "$here/../../scripts/setup.sh"
+
+reps=3
+work=${TMPDIR:-/tmp}/texbake_photos
+targets=all
+while getopts "n:w:t:h" opt; do
+  case $opt in
+  n) reps=$OPTARG ;;
+  w) work=$OPTARG ;;
+  t) targets=$OPTARG ;;
+  *)
+    sed -n '2,19p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    [ "$opt" = h ] && exit 0
+    exit 2
+    ;;
+  esac
+done
+case $targets in vertex | atlas | all) ;; *)
+  echo "run.sh: -t takes vertex, atlas or all, not '$targets'" >&2
+  exit 2
+  ;;
+esac
+
+texbake="$TEXBAKE_BUILD/texbake"
+[ -x "$texbake" ] || texbake_build texbake
+texbake_install_packages time
+py=/usr/bin/python3
+mkdir -p "$work"
+cd "$work"
+
+[ -f armadillo_832k.ply ] ||
+  "$py" "$here/../peers/peers_util.py" mesh "$TEXBAKE_ROOT/data/armadillo.off" armadillo_832k.ply
+cp "$TEXBAKE_ROOT/data/bunny00.off" bunny.off
+
+echo "texbake: $("$texbake" --version | head -1)"
+echo "machine: $(nproc) cores, $(free -g | awk '/^Mem/ {print $2 " GB"}'), $(uptime | sed 's/.*load average/load average/')"
+
+# Photos: 24 views around the mesh's up axis, 1920 x 1080, unlit.
+photograph() { # mesh up
+  local name=${1%.*}
+  if [ ! -f "$name/ws/sparse/0/images.txt" ]; then
+    rm -rf "$name"
+    mkdir -p "$name"
+    "$texbake" fit "$1" --proxy sphere --up "$2" -o "$name/sphere.json" >/dev/null
+    "$texbake" render "$1" --texture "$TEXBAKE_ROOT/data/earth.jpg" --proxy-file "$name/sphere.json" \
+      --up "$2" --unlit --views 24 --samples 4 --size 1920x1080 --colmap "$name/ws" >/dev/null
+  fi
+}
+photograph bunny.off y
+photograph armadillo_832k.ply y
+
+# One timed bake: prints "seconds peak_MB" and leaves its report.
+timed_bake() { # mesh target output report
+  local name=${1%.*}
+  local args=(bake "$1" --cameras "$name/ws/sparse/0" -q -o "$3" --report "$4")
+  if [ "$2" = atlas ]; then args+=(--target atlas --uv generate --size 2048); fi
+  local start end
+  start=$(date +%s%N)
+  /usr/bin/time -v -o time.log "$texbake" "${args[@]}"
+  end=$(date +%s%N)
+  local peak_kb
+  peak_kb=$(awk -F': ' '/Maximum resident set size/ {print $2}' time.log)
+  local ms=$(((end - start) / 1000000))
+  printf '%d.%03d %d\n' $((ms / 1000)) $((ms % 1000)) $((peak_kb / 1024))
+}
+
+echo
+echo "| mesh | target | total s | load | scene | photos | fill | write | peak MB |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for mesh in bunny.off armadillo_832k.ply; do
+  for target in vertex atlas; do
+    [ "$targets" = all ] || [ "$targets" = "$target" ] || continue
+    out=${mesh%.*}/out_$target.ply
+    [ "$target" = atlas ] && out=${mesh%.*}/out_atlas.obj
+    : >runs.tsv
+    for ((i = 0; i < reps; i++)); do
+      read -r seconds peak < <(timed_bake "$mesh" "$target" "$out" "${mesh%.*}/report_$i.json")
+      echo "$seconds $peak ${mesh%.*}/report_$i.json" >>runs.tsv
+    done
+    "$py" - "$mesh" "$target" runs.tsv <<'PY'
+import json, statistics, sys
+mesh, target, runs = sys.argv[1], sys.argv[2], [l.split() for l in open(sys.argv[3])]
+runs.sort(key=lambda r: float(r[0]))
+mid = runs[len(runs) // 2]
+t = json.load(open(mid[2]))["timings"]
+get = lambda *keys: next((t[k] for k in keys if k in t), float("nan"))
+print(f"| {mesh} | {target} | {float(mid[0]):.2f} | {get('load'):.2f} | {get('scene_build'):.2f} | "
+      f"{get('photos', 'bake', 'sample'):.2f} | {get('fill'):.2f} | {get('write'):.2f} | "
+      f"{max(int(r[1]) for r in runs)} |")
+PY
+  done
+done
