@@ -254,5 +254,41 @@ TEST_F(CameraProxyPhotos, RenderBadInputs) {
   EXPECT_FALSE(fs::exists(d / "bad.png"));
 }
 
+TEST_F(CameraProxyPhotos, TruncatedBinaryModelAndSkewRotationAreErrorsWithNoOutput) {
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(d / "ws/sparse/0");
+  ASSERT_TRUE(model);
+  const fs::path bin = d / "bin/sparse/0";
+  fs::create_directories(bin);
+  ASSERT_TRUE(write_colmap_model(bin, *model, /*binary=*/true));
+  // Cut images.bin inside its third image record.
+  const std::string images = testing_cli::slurp(bin / "images.bin");
+  write_file(bin / "images.bin", images.substr(0, images.size() * 5 / 12));
+  testing_cli::RunResult r = run_texbake("bake " + bunny + " --cameras " + q(bin) + " --images " +
+                                         q(d / "ws/images") + " -o " + q(d / "bin.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("texbake: error: "), std::string::npos) << r.err;
+  // (The record count is checked against the file's size before any record
+  // is read.)
+  EXPECT_NE(r.err.find("images.bin: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "bin.ply"));
+
+  // A JSON camera list whose R is skewed by 1e-3: not orthonormal within 1e-6.
+  nlohmann::json cam = nlohmann::json::parse(testing_cli::slurp(d / "view_00.json"));
+  cam["pose"]["R"][0][1] = cam["pose"]["R"][0][1].get<double>() + 1e-3;
+  cam["image"] = "view_00.png";
+  nlohmann::json list;
+  list["cameras"] = nlohmann::json::array({cam});
+  write_file(d / "skew.json", list.dump());
+  r = run_texbake("bake " + bunny + " --cameras " + q(d / "skew.json") + " --images " +
+                  q(d / "ws/images") + " -o " + q(d / "skew.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("skew.json: cameras[0]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("orthonormal"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "skew.ply"));
+}
+
 }  // namespace
 }  // namespace texbake
