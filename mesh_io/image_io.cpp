@@ -162,6 +162,7 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
         img.width = static_cast<int>(w);
         img.height = static_cast<int>(h);
         img.pixels.resize(static_cast<std::size_t>(w * h) * 4);
+        img.has_alpha = alpha >= 0;
       }
       const std::size_t first = static_cast<std::size_t>(y0 * w);
       const std::size_t n = static_cast<std::size_t>((y1 - y0) * w);

@@ -67,6 +67,9 @@ struct Image {
   // linear light and the data type decided (empty otherwise, and always
   // with an override); callers warn about it.
   std::string unrecognised_color_space;
+  // read_image: whether the file has an alpha channel (a grey + alpha or an
+  // RGBA file, or OpenImageIO's alpha channel); alpha is 1 everywhere when not.
+  bool has_alpha = false;
 
   ImageView view() const { return {width, height, pixels.data(), color_space}; }
 };

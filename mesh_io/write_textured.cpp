@@ -463,13 +463,23 @@ Status write_vertex_color_glb(const fs::path& path, const MeshData& mesh,
     }
     normals.append(g.normals, v, c);
   }
-  return write_glb(path, g, up,
-                   [&](tinygltf::Model& model, tinygltf::Primitive& prim, tinygltf::Material&) {
-                     prim.attributes["COLOR_0"] =
-                         add_accessor(model, rgba, TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                      TINYGLTF_TYPE_VEC4, 4, TINYGLTF_TARGET_ARRAY_BUFFER);
-                     return ok_status();
-                   });
+  return write_glb(
+      path, g, up,
+      [&](tinygltf::Model& model, tinygltf::Primitive& prim, tinygltf::Material& material) {
+        prim.attributes["COLOR_0"] =
+            add_accessor(model, rgba, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 4,
+                         TINYGLTF_TARGET_ARRAY_BUFFER);
+        // Colours that are not opaque (layers over base "none":
+        // alpha is the coverage) are blended by glTF viewers
+        // only with alphaMode BLEND; opaque ones stay OPAQUE.
+        for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+          if (colors[v][3] < 1) {
+            material.alphaMode = "BLEND";
+            break;
+          }
+        }
+        return ok_status();
+      });
 }
 
 }  // namespace texbake

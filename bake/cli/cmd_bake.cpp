@@ -24,6 +24,7 @@
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
 #include "bake/cli/geometry_flags.h"
+#include "bake/cli/layers_target.h"
 #include "bake/cli/photo_target.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/proxy_for_mesh.h"
@@ -65,6 +66,7 @@ struct BakeCliOptions {
   int threads = 0;
   bool quiet = false;
   PhotoFlags photos;                                  // --cameras, --images, --blend, --exposure
+  std::string layers;                                 // --layers LAYERS.json
   const CLI::App* command = nullptr;                  // to ask which flags were given
   std::function<void(const std::string&)> on_report;  // CliHooks::on_report
 };
@@ -215,8 +217,51 @@ int run_bake_photos(const BakeCliOptions& o) {
   return run_photo_bake(job);
 }
 
+// bake --layers: the layers file holds every projection, so the flags of
+// the single projection and of --cameras are usage errors (exit 2), then
+// bake/cli/layers_target.h.
+int run_bake_layers(const BakeCliOptions& o) {
+  const std::vector<std::string> projection = given_flags(
+      *o.command, {"--texture", "--proxy", "--proxy-file", "--filter", "--samples", "--visibility",
+                   "--outside", "--wrap", "--linear", "--texture-colorspace", "--cameras",
+                   "--images", "--blend", "--exposure"});
+  if (!projection.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        projection.front() +
+                            " does not apply to --layers (the layers file holds every "
+                            "projection and its options)");
+  }
+  for (const std::string& flag : given_geometry_flags(o.geometry)) {
+    if (flag == "--up") continue;  // a .glb's node matrix
+    return report_error(ErrorCode::kInvalidArgument, flag + " does not apply to --layers");
+  }
+  Expected<BakeTarget> target = resolve_target(o.atlas, o.output);
+  if (!target) return report_error(target.error());
+  if (*target == BakeTarget::kAtlas ||
+      !given_flags(*o.command, {"--size", "--padding", "--uv", "--format"}).empty()) {
+    return report_error(ErrorCode::kUnsupported,
+                        "--layers bakes the vertex target (.ply, .obj or .glb) only so far");
+  }
+  LayersJob job;
+  job.mesh = o.mesh;
+  job.layers = o.layers;
+  job.output = o.output;
+  job.report = o.report;
+  if (o.occluded.keyword.empty()) {
+    job.occluded = OccludedMode::kColor;
+    job.occluded_color = o.occluded.color;
+  }
+  job.write.ascii = o.ascii;
+  job.write.up = up_direction(o.geometry);
+  job.threads = o.threads;
+  job.quiet = o.quiet;
+  job.on_report = o.on_report;
+  return run_layers_bake(job);
+}
+
 int run_bake(const BakeCliOptions& o) {
   const auto start = Clock::now();
+  if (!o.layers.empty()) return run_bake_layers(o);
   if (!o.photos.cameras.empty()) return run_bake_photos(o);
   if (const std::vector<std::string> photo_only =
           given_flags(*o.command, {"--images", "--blend", "--exposure"});
@@ -225,8 +270,9 @@ int run_bake(const BakeCliOptions& o) {
                         photo_only.front() + " applies to --cameras only");
   }
   if (o.texture.empty()) {
-    return report_error(ErrorCode::kInvalidArgument,
-                        "--texture is required (or --cameras to bake from photographs)");
+    return report_error(
+        ErrorCode::kInvalidArgument,
+        "--texture is required (or --cameras to bake from photographs, or --layers)");
   }
   const GeometryFlags geometry = proxy_geometry(o.geometry, o.output);
 
@@ -458,6 +504,12 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
                 "is)");
   add_texture_colorspace_flag(*cmd, o->texture_colorspace, "--texture");
   add_photo_flags(*cmd, o->photos);
+  cmd->add_option("--layers", o->layers,
+                  "bake several projections composited over a base from a layers file (SPEC "
+                  "section 10: base, and per layer proxy | proxy_file, texture, mask, opacity, "
+                  "mode, angle_fade, visibility, outside) instead of --texture and a proxy "
+                  "(vertex target)")
+      ->type_name("LAYERS.json");
   cmd->add_option("--report", o->report, "write what was done as JSON to this file");
   cmd->add_option("--threads", o->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));

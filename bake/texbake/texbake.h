@@ -60,6 +60,7 @@
 
 #include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
 #include "bake/atlas/bake_atlas.h"
+#include "bake/layers/layers_bake.h"
 #include "bake/photo/camera_check.h"
 #include "bake/photo/photo_bake.h"
 #include "bake/render/render_preview.h"
@@ -233,6 +234,29 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
 Expected<std::vector<CameraCheck>> check_cameras(const MeshData& mesh,
                                                  const std::vector<Photo>& photos,
                                                  const RunOptions& run = {});
+
+// ---- Layers (SPEC section 10) ---------------------------------------------
+
+// Reads a layers file (mesh_io/layers_json.h: keys, defaults, paths relative
+// to the file). Errors: kInput naming the file and the key.
+Expected<LayersSpec> read_layers(const std::filesystem::path& layers_file);
+
+struct LayerColors {
+  std::vector<Rgba> colors;        // per vertex: sRGB-encoded RGB, alpha = coverage
+  std::vector<LayerStats> layers;  // per layer: in domain, visible, blended, mean alpha
+  Stats stats;  // counts.vertices, samples (vertices x layers), occluded (uncovered),
+                // filled; timings.scene_build, bake (layers), fill, total
+};
+
+// Vertex colours composited from the layers of `spec` over its base (the
+// contract of bake/layers/layers_bake.h): every layer's texture and mask are
+// read here (any format OpenImageIO reads; sampled in linear light). Errors:
+// kInput (an image unreadable; base "mesh" on a mesh without vertex
+// colours), kUnsupported (a "cameras" layer: not yet; a camera proxy layer
+// is), kInternal. Progress stage: "layers" (per layer read).
+Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const LayersSpec& spec,
+                                                     const LayersBakeOptions& options = {},
+                                                     const RunOptions& run = {});
 
 // ---- Atlas ----------------------------------------------------------------
 

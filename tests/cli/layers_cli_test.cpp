@@ -1,0 +1,164 @@
+// bake --layers through the executable (SPEC section 10): one layer over
+// base "none" is the single projection (in linear light, bilinear), a layer
+// over the mesh's own colours leaves them where it does not reach, the
+// coverage is the output's alpha (PLY alpha, GLB alphaMode BLEND), and bad
+// files and flags are errors with no output.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "mesh_io/image_io.h"
+#include "mesh_io/read_mesh.h"
+#include "tests/cli/run_texbake.h"
+
+namespace texbake {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_cli::run_texbake;
+
+std::string q(const fs::path& p) {
+  return testing_cli::shell_quote(p.string());
+}
+
+const std::string kData = TEXBAKE_DATA_DIR;
+const char* kEarthSphere =
+    R"({"kind":"sphere","center":[0,0,0],"radius":1,"pole":[0,1,0],"equator":[0,0,1]})";
+
+class LayersCli : public ::testing::Test {
+ protected:
+  void SetUp() override { dir_ = testing_cli::fresh_test_dir("texbake_layers_cli"); }
+  void TearDown() override { fs::remove_all(dir_); }
+  void write(const fs::path& name, const std::string& text) {
+    std::ofstream(dir_ / name, std::ios::binary) << text;
+  }
+  std::vector<std::array<int, 4>> colours(const fs::path& ply) {
+    Expected<LoadedMesh> m = read_mesh(ply);
+    EXPECT_TRUE(m) << m.error().message;
+    std::vector<std::array<int, 4>> out;
+    for (const auto& c : m->mesh.vertex_colors) {
+      out.push_back({int(c[0] * 255 + 0.5f), int(c[1] * 255 + 0.5f), int(c[2] * 255 + 0.5f),
+                     int(c[3] * 255 + 0.5f)});
+    }
+    return out;
+  }
+  fs::path dir_;
+};
+
+TEST_F(LayersCli, OneLayerOverNoneIsTheSingleProjectionInLinearLight) {
+  const std::string bunny = q(kData + "/bunny00.off");
+  write("L.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":")" +
+                      kData + R"(/earth.jpg"}]})");
+  testing_cli::RunResult r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "L.json") +
+                                         " --occluded 1,0,1 -q --report " + q(dir_ / "r.json") +
+                                         " -o " + q(dir_ / "layers.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_texbake("bake " + bunny + " --texture " + q(kData + "/earth.jpg") +
+                  " --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator 0,0,1 "
+                  "--filter bilinear --linear --occluded 1,0,1 -q -o " +
+                  q(dir_ / "direct.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto layers = colours(dir_ / "layers.ply"), direct = colours(dir_ / "direct.ply");
+  ASSERT_EQ(layers.size(), direct.size());
+  std::size_t covered = 0;
+  for (std::size_t v = 0; v < layers.size(); ++v) {
+    const bool occluded = direct[v][0] == 255 && direct[v][1] == 0 && direct[v][2] == 255;
+    // Same RGB everywhere (measured identical); alpha: the coverage.
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(layers[v][c], direct[v][c], 1) << "vertex " << v;
+    EXPECT_EQ(layers[v][3], occluded ? 0 : 255) << "vertex " << v;
+    covered += !occluded;
+  }
+  EXPECT_GT(covered, 30000u);
+  const std::string report = testing_cli::slurp(dir_ / "r.json");
+  EXPECT_NE(report.find("\"visible\": " + std::to_string(covered)), std::string::npos) << report;
+  EXPECT_NE(report.find("\"blended\": " + std::to_string(covered)), std::string::npos) << report;
+}
+
+TEST_F(LayersCli, ADecalOverTheMeshColoursLeavesThemElsewhere) {
+  // The base: the bunny's Earth bake (vertex colours). The decal: a plane
+  // proxy over the bunny's front (z > 0 faces towards +z), 0.2 x 0.2 units,
+  // a half-opaque white image.
+  const std::string bunny = q(kData + "/bunny00.off");
+  testing_cli::RunResult r =
+      run_texbake("bake " + bunny + " --texture " + q(kData + "/earth.jpg") +
+                  " --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator 0,0,1 -q -o " +
+                  q(dir_ / "base.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Image white;
+  white.width = white.height = 4;
+  white.pixels.assign(4 * 4 * 4, 1.0f);
+  for (std::size_t i = 3; i < white.pixels.size(); i += 4) white.pixels[i] = 0.5f;
+  ASSERT_TRUE(write_image(dir_ / "decal.png", white.view()));
+  write("L.json", R"({"base":"mesh","layers":[{"proxy":{"kind":"plane","origin":[-0.1,-0.1,0],)"
+                  R"("u_axis":[0.2,0,0],"v_axis":[0,0.2,0]},"texture":"decal.png"}]})");
+  r = run_texbake("bake " + q(dir_ / "base.ply") + " --layers " + q(dir_ / "L.json") + " -q -o " +
+                  q(dir_ / "out.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Expected<LoadedMesh> mesh = read_mesh(dir_ / "base.ply");
+  ASSERT_TRUE(mesh);
+  const auto base = colours(dir_ / "base.ply"), out = colours(dir_ / "out.ply");
+  std::size_t inside = 0, lighter = 0;
+  for (std::size_t v = 0; v < out.size(); ++v) {
+    const Float3 p = mesh->mesh.positions[v];
+    EXPECT_EQ(out[v][3], 255);  // an opaque base stays opaque
+    const bool in_decal = p.x > -0.1f && p.x < 0.1f && p.y > -0.1f && p.y < 0.1f;
+    if (!in_decal) {
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(out[v][c], base[v][c]) << "vertex " << v;
+      continue;
+    }
+    // Where the plane sees the vertex: half white over the base, in linear light.
+    ++inside;
+    if (out[v][0] > base[v][0] && out[v][1] > base[v][1] && out[v][2] > base[v][2]) ++lighter;
+  }
+  EXPECT_GT(inside, 100u);
+  EXPECT_GT(lighter, inside / 3);  // the front half of the slab the decal projects through
+}
+
+TEST_F(LayersCli, CoverageIsTheGlbAlphaMode) {
+  write("L.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":")" +
+                      kData + R"(/earth.jpg","opacity":0.5}]})");
+  const testing_cli::RunResult r =
+      run_texbake("bake " + q(kData + "/bunny00.off") + " --layers " + q(dir_ / "L.json") +
+                  " --target vertex -q -o " + q(dir_ / "out.glb"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(testing_cli::slurp(dir_ / "out.glb").find("\"alphaMode\":\"BLEND\""),
+            std::string::npos);
+}
+
+TEST_F(LayersCli, BadFilesAndFlagsAreErrorsWithNoOutput) {
+  const std::string bunny = q(kData + "/bunny00.off");
+  write("bad.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere +
+                        R"(,"texture":"earth.jpg","opacity":2}]})");
+  testing_cli::RunResult r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "bad.json") +
+                                         " -o " + q(dir_ / "o.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("bad.json: layers[0].opacity: must be a number in [0, 1]"),
+            std::string::npos)
+      << r.err;
+  write("missing.json",
+        std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":"nowhere.png"}]})");
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "missing.json") + " -o " +
+                  q(dir_ / "o.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("nowhere.png"), std::string::npos) << r.err;
+  write("L.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":")" +
+                      kData + R"(/earth.jpg"}]})");
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "L.json") + " --texture " +
+                  q(kData + "/earth.jpg") + " -o " + q(dir_ / "o.ply"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--texture does not apply to --layers"), std::string::npos) << r.err;
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "L.json") + " --radius 2 -o " +
+                  q(dir_ / "o.ply"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  // base "mesh" on a mesh without colours is the mesh's problem.
+  write("M.json", std::string(R"({"base":"mesh","layers":[{"proxy":)") + kEarthSphere +
+                      R"(,"texture":")" + kData + R"(/earth.jpg"}]})");
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "M.json") + " -o " + q(dir_ / "o.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("no vertex colours"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "o.ply"));
+}
+
+}  // namespace
+}  // namespace texbake
