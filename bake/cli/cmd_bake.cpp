@@ -439,7 +439,9 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
       "bake",
       "Bake an image onto a mesh through a proxy shape: per-vertex colours (--target vertex: "
       ".ply, .obj, .glb) or a texture atlas (--target atlas: .obj + .mtl + image, .glb). "
-      "Geometry flags not given are fitted to the mesh (as texbake fit) and printed.");
+      "Geometry flags not given are fitted to the mesh (as texbake fit) and printed. With "
+      "--cameras, calibrated photos take the place of --texture and the proxy, for either "
+      "target (--uv generate or mesh for the atlas).");
   o->command = cmd;
   cmd->add_option("mesh", o->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
   cmd->add_option("--texture", o->texture,
