@@ -4,8 +4,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
-#include <numbers>
 
 #include "bake/photo/photo_view.h"
 #include "bake/photo/segments.h"
@@ -14,7 +12,6 @@
 #include "bake/util/parallel.h"
 #include "bake/vertex/occlusion_fill.h"
 #include "mapping/image_view.h"
-#include "mesh_io/image_io.h"
 #include "mesh_io/vertex_normals.h"
 
 namespace texbake {
