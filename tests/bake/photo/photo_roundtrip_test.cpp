@@ -426,5 +426,31 @@ TEST(PhotoRoundTripData, PhotoAtlasIsTheSameWithOneAndTwoThreads) {
   }
 }
 
+TEST(PhotoRoundTripData, PhotoAtlasApiRefusesBadOptionsFirst) {
+  const World& w = world();
+  AtlasOptions proxy_uv;
+  proxy_uv.uv = UvLayout::kProxy;
+  Expected<PhotoAtlas> r = bake_atlas_texture_from_photos(w.mesh, w.photos, {}, proxy_uv);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(category(r.error()), ErrorCategory::kUsage);
+  EXPECT_NE(r.error().message.find("--uv proxy needs a proxy"), std::string::npos);
+  AtlasOptions small;
+  small.bake.size = 0;
+  r = bake_atlas_texture_from_photos(w.mesh, w.photos, {}, small);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(category(r.error()), ErrorCategory::kUsage);
+  r = bake_atlas_texture_from_photos(w.mesh, {}, {}, AtlasOptions{});
+  ASSERT_FALSE(r);
+  EXPECT_EQ(category(r.error()), ErrorCategory::kUsage);
+  // The photos' paths do not exist (the renders are in memory): the first
+  // read fails, as an input error.
+  AtlasOptions ok;
+  ok.uv = UvLayout::kGenerate;
+  ok.bake.size = 64;
+  r = bake_atlas_texture_from_photos(w.mesh, w.photos, {}, ok);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(category(r.error()), ErrorCategory::kInput) << r.error().message;
+}
+
 }  // namespace
 }  // namespace texbake
