@@ -40,10 +40,12 @@
 // creases.
 //
 // Memory: the samples (12 bytes each), per sample q_max, W and the colour
-// (24 bytes; kBest 4 more), one bit per camera and sample, the atlas, the
+// (20 bytes; kBest 4 more), one bit per camera and sample, the atlas, the
 // Embree scene and one photo: a 2048 atlas with 4 samples (about 12 M
 // samples at 70 % coverage) and 100 photos holds some 0.6 GB besides the
-// photo and the scene. An overlapping layout is baked with each sample on
+// photo and the scene (measured: the bunny subdivided to 1.2 M triangles,
+// 10.6 M samples, 8 photos of 960 x 720: 0.81 GB peak for the whole
+// command). An overlapping layout is baked with each sample on
 // its lowest-index triangle (AtlasBakeOptions::resolve_overlaps has no
 // counterpart here: which surface is "visible" differs per photo). Results
 // do not depend on the thread count.
