@@ -398,21 +398,23 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
 
   // 3. Pad.
   t0 = Clock::now();
-  if (options.padding == kPaddingInfinite) {
-    result.counts.padded = push_pull_fill(result.atlas.pixels, result.baked, n, n);
-  } else {
-    const int rings = options.padding == kPaddingDefault ? default_padding(n) : options.padding;
-    std::vector<uint8_t> mask = result.baked;
-    result.counts.padded = dilate(result.atlas.pixels, mask, n, n, rings);
-    if (options.padding == kPaddingDefault) {
-      // The rest of the background: colour by the mip-safe push-pull from
-      // the charts and their rings, alpha 0 (coverage).
-      result.counts.padded +=
-          push_pull_fill(result.atlas.pixels, mask, n, n, PushPullMode::kMipSafe);
-    }
-  }
+  result.counts.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);
   result.timings.pad = seconds_since(t0);
   return result;
+}
+
+std::size_t pad_atlas(std::span<float> rgba, std::span<const uint8_t> baked, int size,
+                      int padding) {
+  if (padding == kPaddingInfinite) return push_pull_fill(rgba, baked, size, size);
+  const int rings = padding == kPaddingDefault ? default_padding(size) : padding;
+  std::vector<uint8_t> mask(baked.begin(), baked.end());
+  std::size_t padded = dilate(rgba, mask, size, size, rings);
+  if (padding == kPaddingDefault) {
+    // The rest of the background: colour by the mip-safe push-pull from
+    // the charts and their rings, alpha 0 (coverage).
+    padded += push_pull_fill(rgba, mask, size, size, PushPullMode::kMipSafe);
+  }
+  return padded;
 }
 
 MeshData mesh_with_triangle_uvs(const MeshData& mesh, const std::vector<Float2>& uvs,

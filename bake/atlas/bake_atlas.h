@@ -48,6 +48,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "bake/shade/options.h"
@@ -118,6 +119,12 @@ struct AtlasBakeResult {
 Expected<AtlasBakeResult> bake_atlas(const MeshData& uv_mesh, const ImageView& image,
                                      const Proxy& proxy, const AtlasBakeOptions& options,
                                      Progress* progress = nullptr);
+
+// Stage 3 on its own: pads a size x size RGBA atlas (sRGB-encoded) whose
+// covered texels are `baked`, as `padding` says (a count >= 0,
+// kPaddingDefault or kPaddingInfinite: see the file comment). Returns the
+// texels filled. Shared with the photo atlas (bake/photo/photo_atlas.h).
+std::size_t pad_atlas(std::span<float> rgba, std::span<const uint8_t> baked, int size, int padding);
 
 // A copy of `mesh` whose faces are its triangles, with per-corner UVs from a
 // per-triangle UV table (triangle_uvs[t][k] indexes uvs for corner k of

@@ -179,12 +179,12 @@ GeometryFlags proxy_geometry(const GeometryFlags& flags, const fs::path& output)
   return g;
 }
 
-// bake --cameras: the photo flags against the projection flags (exit 2),
-// then bake/cli/photo_target.h.
+// bake --cameras: the photo flags against the projection flags and the
+// target's (exit 2), then bake/cli/photo_target.h.
 int run_bake_photos(const BakeCliOptions& o) {
-  const std::vector<std::string> projection = given_flags(
-      *o.command, {"--texture", "--proxy", "--proxy-file", "--filter", "--samples", "--visibility",
-                   "--outside", "--wrap", "--linear", "--size", "--padding", "--uv", "--format"});
+  const std::vector<std::string> projection =
+      given_flags(*o.command, {"--texture", "--proxy", "--proxy-file", "--filter", "--visibility",
+                               "--outside", "--wrap", "--linear"});
   if (!projection.empty()) {
     return report_error(ErrorCode::kInvalidArgument,
                         projection.front() +
@@ -195,10 +195,23 @@ int run_bake_photos(const BakeCliOptions& o) {
     if (flag == "--up") continue;  // a .glb's node matrix
     return report_error(ErrorCode::kInvalidArgument, flag + " does not apply to --cameras");
   }
-  const std::string ext = lower_extension(o.output);
-  if (o.atlas.target == "atlas" || (ext != ".ply" && ext != ".obj" && ext != ".glb")) {
-    return report_error(ErrorCode::kUnsupported,
-                        "--cameras bakes the vertex target (.ply, .obj or .glb) only so far");
+  Expected<BakeTarget> target = resolve_target(o.atlas, o.output);
+  if (!target) return report_error(target.error());
+  const bool atlas = *target == BakeTarget::kAtlas;
+  if (!atlas) {
+    // The vertex photo bake samples each photo at the vertex itself.
+    const std::vector<std::string> atlas_only =
+        given_flags(*o.command, {"--samples", "--size", "--padding", "--uv", "--format"});
+    if (!atlas_only.empty()) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          atlas_only.front() + " applies to --target atlas only with --cameras " +
+                              "(this bake's target is vertex, writing " + o.output + ")");
+    }
+  } else if (given_flags(*o.command, {"--ascii"}).size() > 0) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--ascii applies to --target vertex only (this bake's target is atlas, "
+                        "writing " +
+                            o.output + ")");
   }
   PhotoJob job;
   job.mesh = o.mesh;
@@ -209,8 +222,20 @@ int run_bake_photos(const BakeCliOptions& o) {
     job.occluded = OccludedMode::kColor;
     job.occluded_color = o.occluded.color;
   }
+  job.write = atlas_write_options(o.atlas);
   job.write.ascii = o.ascii;
   job.write.up = up_direction(o.geometry);
+  job.atlas = atlas;
+  if (atlas) {
+    if (o.atlas.uv == UvLayout::kProxy) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          "--uv proxy needs a proxy, and --cameras has none (use --uv generate "
+                          "or --uv mesh)");
+    }
+    Expected<AtlasOptions> a = atlas_options(o.atlas, o.samples, VertexBakeOptions{}, o.output);
+    if (!a) return report_error(a.error());
+    job.atlas_options = *a;
+  }
   job.threads = o.threads;
   job.quiet = o.quiet;
   job.on_report = o.on_report;
@@ -460,7 +485,9 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
       "bake",
       "Bake an image onto a mesh through a proxy shape: per-vertex colours (--target vertex: "
       ".ply, .obj, .glb) or a texture atlas (--target atlas: .obj + .mtl + image, .glb). "
-      "Geometry flags not given are fitted to the mesh (as texbake fit) and printed.");
+      "Geometry flags not given are fitted to the mesh (as texbake fit) and printed. With "
+      "--cameras, calibrated photos take the place of --texture and the proxy, for either "
+      "target (--uv generate or mesh for the atlas).");
   o->command = cmd;
   cmd->add_option("mesh", o->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
   cmd->add_option("--texture", o->texture,

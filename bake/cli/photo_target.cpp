@@ -9,6 +9,7 @@
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
 #include "bake/cli/progress_bar.h"
+#include "bake/cli/report.h"
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
 
@@ -17,6 +18,64 @@ namespace texbake::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+const char* blend_name(PhotoBlend b) {
+  return b == PhotoBlend::kSoft ? "soft" : b == PhotoBlend::kBest ? "best" : "mean";
+}
+
+nlohmann::ordered_json cameras_json(const std::vector<PhotoCameraStats>& cameras) {
+  nlohmann::ordered_json cams = nlohmann::ordered_json::array();
+  for (const PhotoCameraStats& s : cameras) {
+    cams.push_back({{"image", s.name},
+                    {"photo", {s.photo_width, s.photo_height}},
+                    {"in_view", s.in_view},
+                    {"visible", s.visible},
+                    {"weight_share", s.weight_share},
+                    {"gain", {s.gain[0], s.gain[1], s.gain[2]}}});
+  }
+  return cams;
+}
+
+// The atlas photo bake's --report: inputs, counts (atlas samples), the
+// "atlas" object of the proxy atlas's report, one entry per camera (in_view
+// and visible count atlas samples), timings.
+std::string photo_atlas_report(const PhotoJob& job, const PhotoAtlas& baked, double load,
+                               double write, double total) {
+  nlohmann::ordered_json j;
+  j["command"] = "bake";
+  j["target"] = "atlas";
+  j["inputs"] = {{"mesh", job.mesh},
+                 {"cameras", job.flags.cameras},
+                 {"images", job.flags.images},
+                 {"output", job.output},
+                 {"options",
+                  {{"blend", blend_name(job.flags.blend)},
+                   {"exposure", job.flags.exposure == ExposureMode::kNone ? "none" : "gain"},
+                   {"threads", job.threads}}}};
+  const Stats& st = baked.atlas.stats;
+  const Counts& c = st.counts;
+  j["counts"] = {{"vertices", c.vertices},
+                 {"triangles", c.triangles},
+                 {"texels", c.texels},
+                 {"samples", c.samples},
+                 {"unseen", c.occluded},
+                 {"filled", c.filled},
+                 {"unfilled_vertices", c.unfilled},
+                 {"padded", c.padded}};
+  j["atlas"] = atlas_json(AtlasReport{job.atlas_options.bake, baked.atlas.uv}, st, write);
+  j["cameras"] = cameras_json(baked.cameras);
+  const Timings& t = st.timings;
+  j["timings"] = {{"load", load},
+                  {"uv_layout", t.uv_layout},
+                  {"rasterize", t.rasterize},
+                  {"vertex_photos", t.fill},
+                  {"scene_build", t.scene_build},
+                  {"photos", t.bake},
+                  {"pad", t.pad},
+                  {"write", write},
+                  {"total", total}};
+  return j.dump(2) + "\n";
+}
 
 // The photo bake's --report: inputs, counts, timings and one entry per camera.
 std::string photo_report(const PhotoJob& job, const PhotoColors& baked, double load, double write,
@@ -29,25 +88,14 @@ std::string photo_report(const PhotoJob& job, const PhotoColors& baked, double l
                  {"images", job.flags.images},
                  {"output", job.output},
                  {"options",
-                  {{"blend", job.flags.blend == PhotoBlend::kSoft   ? "soft"
-                             : job.flags.blend == PhotoBlend::kBest ? "best"
-                                                                    : "mean"},
+                  {{"blend", blend_name(job.flags.blend)},
                    {"exposure", job.flags.exposure == ExposureMode::kNone ? "none" : "gain"},
                    {"threads", job.threads}}}};
   const Counts& c = baked.stats.counts;
   j["counts"] = {{"vertices", c.vertices},      {"triangles", c.triangles},
                  {"camera_samples", c.samples}, {"unseen", c.occluded},
                  {"filled", c.filled},          {"unfilled", c.unfilled}};
-  nlohmann::ordered_json cams = nlohmann::ordered_json::array();
-  for (const PhotoCameraStats& s : baked.cameras) {
-    cams.push_back({{"image", s.name},
-                    {"photo", {s.photo_width, s.photo_height}},
-                    {"in_view", s.in_view},
-                    {"visible", s.visible},
-                    {"weight_share", s.weight_share},
-                    {"gain", {s.gain[0], s.gain[1], s.gain[2]}}});
-  }
-  j["cameras"] = cams;
+  j["cameras"] = cameras_json(baked.cameras);
   const Timings& t = baked.stats.timings;
   j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
                   {"photos", t.bake}, {"fill", t.fill},
@@ -71,7 +119,7 @@ void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
   cmd.add_option("--cameras", flags.cameras,
                  "bake from calibrated photos instead of --texture and a proxy: a COLMAP sparse "
                  "model folder (cameras + images .txt or .bin) or a JSON camera list "
-                 "(vertex target)");
+                 "(vertex or atlas target)");
   cmd.add_option("--images", flags.images,
                  "--cameras: the photos' folder (default: a COLMAP workspace's images/ beside "
                  "sparse/, or the JSON list's folder)");
@@ -86,26 +134,49 @@ void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
       "--cameras: gain (one gain per photo and channel, least squares, default) or none");
 }
 
+namespace {
+
+// The outputs (-o and, for an atlas .obj, its material and image), then
+// --report: distinct from the inputs and each other (exit 2), writable
+// (exit 1). Returns 0 or the exit code.
+int check_outputs(const PhotoJob& job) {
+  const fs::path output = job.output;
+  std::vector<fs::path> outputs{output};
+  if (job.atlas) outputs = atlas_files(output, job.write);
+  {
+    const std::vector<NamedFile> read{{"MESH", job.mesh}, {"--cameras", job.flags.cameras}};
+    std::vector<NamedFile> written{{"-o", output}};
+    if (outputs.size() == 3) {
+      written.push_back({"the material of -o", outputs[1]});
+      written.push_back({"the atlas image of -o", outputs[2]});
+    }
+    written.push_back({"--report", job.report});
+    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
+  }
+  if (!job.report.empty()) outputs.push_back(job.report);
+  for (const fs::path& p : outputs) {
+    if (Status s = check_writable(p); !s) return report_error(s.error());
+  }
+  return 0;
+}
+
+}  // namespace
+
 int run_photo_bake(const PhotoJob& job) {
   const auto start = Clock::now();
   const fs::path output = job.output;
-  if (Status s = validate_write(output, job.write, /*atlas=*/false); !s)
-    return report_error(s.error());
-  {
-    const std::vector<NamedFile> read{{"MESH", job.mesh}, {"--cameras", job.flags.cameras}};
-    const std::vector<NamedFile> written{{"-o", output}, {"--report", job.report}};
-    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
-  }
-  for (const std::string& p : {job.output, job.report}) {
-    if (p.empty()) continue;
-    if (Status s = check_writable(p); !s) return report_error(s.error());
-  }
+  if (Status s = validate_write(output, job.write, job.atlas); !s) return report_error(s.error());
+  if (int code = check_outputs(job); code != 0) return code;
   auto stage = Clock::now();
   Expected<std::vector<Photo>> photos = read_cameras(job.flags.cameras, job.flags.images);
   if (!photos) return report_error(photos.error());
   Expected<LoadedMesh> mesh = read_mesh(job.mesh);
   if (!mesh) return report_error(mesh.error());
   const double load = seconds_since(stage);
+  if (job.atlas && job.atlas_options.uv == UvLayout::kMesh && !mesh->mesh.has_uvs()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--uv mesh: " + job.mesh + " has no UV coordinates (use --uv generate)");
+  }
 
   PhotoBakeOptions options;
   options.blend = job.flags.blend;
@@ -116,6 +187,39 @@ int run_photo_bake(const PhotoJob& job) {
   RunOptions run;
   run.threads = job.threads;
   run.progress = bar.callback();
+  if (job.atlas) {
+    Expected<PhotoAtlas> baked =
+        bake_atlas_texture_from_photos(mesh->mesh, *photos, options, job.atlas_options, run);
+    if (!baked) return report_mesh_error(baked.error(), job.mesh);
+    for (const std::string& w : baked->atlas.stats.warnings) {
+      std::cerr << "texbake: warning: " << w << "\n";
+    }
+    stage = Clock::now();
+    if (Status s = write_atlas(output, baked->atlas, job.write); !s) return report_error(s.error());
+    const double write = seconds_since(stage);
+    const double total = seconds_since(start);
+    const std::string report = photo_atlas_report(job, *baked, load, write, total);
+    if (!job.report.empty()) {
+      if (Status s = write_text(job.report, report); !s) return report_error(s.error());
+    }
+    if (job.on_report) job.on_report(report);
+    if (!job.quiet) {
+      const Counts& c = baked->atlas.stats.counts;
+      std::string written = job.output;
+      const std::vector<fs::path> files = atlas_files(output, job.write);
+      if (files.size() == 3) {
+        written +=
+            " (+ " + files[1].filename().string() + ", " + files[2].filename().string() + ")";
+      }
+      std::printf(
+          "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu unseen, %zu padded) from %zu "
+          "photos in %.2f s -> %s\n",
+          job.atlas_options.bake.size, job.atlas_options.bake.size, to_string(baked->atlas.uv.used),
+          c.texels, c.samples, c.occluded, c.padded, photos->size(), total, written.c_str());
+      std::fflush(stdout);
+    }
+    return 0;
+  }
   Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh->mesh, *photos, options, run);
   if (!baked) return report_mesh_error(baked.error(), job.mesh);
   for (const std::string& w : baked->stats.warnings) std::cerr << "texbake: warning: " << w << "\n";

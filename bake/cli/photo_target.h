@@ -1,6 +1,9 @@
 // `texbake bake MESH --cameras PATH [--images DIR] [--blend soft|best|mean]
-// [--exposure gain|none] -o OUT` (SPEC section 9): vertex colours from
-// calibrated photographs, the vertex target's writers (.ply, .obj, .glb).
+// [--exposure gain|none] -o OUT` (SPEC section 9): vertex colours
+// (bake_vertex_colors_from_photos; the vertex target's writers: .ply, .obj,
+// .glb) or a texture atlas (bake_atlas_texture_from_photos, with the atlas
+// flags --size, --samples, --uv, --padding, --format; .obj + .mtl + image,
+// .glb) from calibrated photographs.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -27,14 +30,17 @@ struct PhotoJob {
   PhotoFlags flags;
   OccludedMode occluded = OccludedMode::kFill;
   Rgba occluded_color{0, 0, 0, 1};
-  WriteOptions write;
+  WriteOptions write;          // with the atlas target: --format as well
+  bool atlas = false;          // the atlas target
+  AtlasOptions atlas_options;  // validated (atlas_options of atlas_target.h); shading unused
   int threads = 0;
   bool quiet = false;
   std::function<void(const std::string&)> on_report;  // CliHooks::on_report (batch results)
 };
 
 // Checks (exit 2 for usage), reads the cameras and the mesh, bakes, writes
-// atomically, prints the summary line; returns the exit code.
+// atomically (an atlas's OBJ + MTL + image set together), prints the summary
+// line; returns the exit code.
 int run_photo_bake(const PhotoJob& job);
 
 }  // namespace texbake::cli

@@ -32,8 +32,8 @@ ordered_json color_json(const Rgba& c) {
   return ordered_json::array({c[0], c[1], c[2], c[3]});
 }
 
-// The "atlas" object: the atlas options, the bake's counts, the UV layout's
-// figures and the atlas stages' timings.
+}  // namespace
+
 ordered_json atlas_json(const AtlasReport& a, const Stats& stats, double write) {
   const AtlasBakeOptions& o = a.options;
   const Counts& c = stats.counts;
@@ -71,8 +71,6 @@ ordered_json atlas_json(const AtlasReport& a, const Stats& stats, double write) 
                   {"write", write}};
   return j;
 }
-
-}  // namespace
 
 std::string report_json(const BakeReport& r) {
   ordered_json j;

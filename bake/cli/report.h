@@ -40,6 +40,7 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -67,6 +68,11 @@ struct BakeReport {
   double write = 0;                       // seconds: the output files
   double total = 0;                       // seconds: the whole command
 };
+
+// The report's "atlas" object: the atlas options, the bake's counts, the UV
+// layout's figures and the atlas stages' timings (also the photo atlas's,
+// bake/cli/photo_target.cpp).
+nlohmann::ordered_json atlas_json(const AtlasReport& atlas, const Stats& stats, double write);
 
 // The JSON text of the layout above (pretty-printed, 2 spaces, ends with a newline).
 std::string report_json(const BakeReport& report);

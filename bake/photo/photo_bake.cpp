@@ -4,16 +4,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
-#include <numbers>
 
+#include "bake/photo/photo_view.h"
 #include "bake/photo/segments.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/vertex/occlusion_fill.h"
 #include "mapping/image_view.h"
-#include "mesh_io/image_io.h"
 #include "mesh_io/vertex_normals.h"
 
 namespace texbake {
@@ -26,10 +24,10 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-const double kMinCosine = std::cos(75.0 * std::numbers::pi / 180.0);  // theta > 75 deg: not seen
-constexpr double kBorderFraction = 0.05;  // border weight reaches 1 at 5 % of min(W, H)
-constexpr double kSoftTemperature = 0.1;  // --blend soft: exp(-(1 - q / q_max) / 0.1)
-constexpr std::size_t kGrain = 4096;      // vertices per parallel chunk
+constexpr std::size_t kGrain = 4096;  // vertices per parallel chunk
+
+using photo_detail::blend_weight;
+using photo_detail::CameraLook;
 
 // One camera's view of one vertex.
 struct Sample {
@@ -37,37 +35,6 @@ struct Sample {
   float quality = 0;
   std::array<float, 3> rgb{};  // linear light, before the gain
 };
-
-Expected<PhotoImage> read_photo_file(const Photo& photo) {
-  Expected<Image> image = read_image(photo.path);
-  if (!image) return image.error();
-  return PhotoImage{image->width, image->height, std::move(image->pixels), image->color_space};
-}
-
-// A photo of the camera's size, or of its aspect at another size (then
-// `scaled`); else an error naming both sizes.
-Status check_photo_size(const Photo& photo, const PhotoImage& image, bool& scaled) {
-  const int w = photo.camera.spec().width, h = photo.camera.spec().height;
-  scaled = false;
-  if (image.width == w && image.height == h) return ok_status();
-  const long long cross =
-      static_cast<long long>(image.width) * h - static_cast<long long>(image.height) * w;
-  if (image.width > 0 && image.height > 0 && std::llabs(cross) < std::max(w, h)) {
-    scaled = true;
-    return ok_status();
-  }
-  return make_error(ErrorCode::kParse, photo.path.string() + ": the photo of " + photo.name +
-                                           " is " + std::to_string(image.width) + " x " +
-                                           std::to_string(image.height) + ", its camera " +
-                                           std::to_string(w) + " x " + std::to_string(h) +
-                                           " (neither that size nor that aspect)");
-}
-
-// 0 at the photo's edge, 1 from kBorderFraction * min(W, H) inside on.
-double border_weight(Vec2 pixel, int w, int h) {
-  const double edge = std::min({pixel.x, w - pixel.x, pixel.y, h - pixel.y});
-  return std::clamp(edge / (kBorderFraction * std::min(w, h)), 0.0, 1.0);
-}
 
 // Exposure gains of one channel: minimise sum over vertices and pairs (a, b)
 // of photos seeing it of (g_a x_a - g_b x_b)^2 + lambda sum (g_k - 1)^2,
@@ -117,7 +84,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
                                                   const PhotoBakeOptions& options,
                                                   const PhotoReader& reader) {
   if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
-  const PhotoReader read = reader ? reader : PhotoReader(read_photo_file);
+  const PhotoReader read = reader ? reader : PhotoReader(photo_detail::read_photo_file);
   const std::size_t n = mesh.positions.size();
   PhotoBakeResult result;
   result.cameras.resize(photos.size());
@@ -140,31 +107,11 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     const CameraProjector& camera = photo.camera;
     PhotoCameraStats& stats = result.cameras[c];
     stats.name = photo.name;
-    Expected<PhotoImage> image = read(photo);
+    Expected<PhotoImage> image = photo_detail::load_photo(photo, read, stats, result.warnings);
     if (!image) return image.error();
-    if (Status s = check_photo_size(photo, *image, stats.scaled); !s) return s.error();
-    stats.photo_width = image->width, stats.photo_height = image->height;
-    if (stats.scaled) {
-      result.warnings.push_back(
-          photo.name + ": the photo is " + std::to_string(image->width) + " x " +
-          std::to_string(image->height) + ", its camera " + std::to_string(camera.spec().width) +
-          " x " + std::to_string(camera.spec().height) + "; sampled at the camera's (u, v)");
-    }
-    // Blend in linear light: an sRGB photo is linearised once, so bilinear
-    // interpolation happens in linear light too; a linear one is used as is.
-    if (image->color_space == ColorSpace::kSrgb) {
-      parallel_for_chunks(image->pixels.size() / 4, 1 << 16, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-          for (int ch = 0; ch < 3; ++ch) {
-            image->pixels[4 * i + ch] = srgb_to_linear(image->pixels[4 * i + ch]);
-          }
-        }
-      });
-    }
     const ImageView view{image->width, image->height, image->pixels.data()};
-    const Vec3 centre = camera.centre();
-    const int w = camera.spec().width, h = camera.spec().height;
-    const double focal2 = camera.mean_focal() * camera.mean_focal();
+    const CameraLook look(camera);
+    const Vec3 centre = look.centre();
     std::vector<std::size_t> in_view_chunk(block_count(n, kGrain), 0),
         visible_chunk(in_view_chunk.size(), 0);
     parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
@@ -177,11 +124,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         quality[v] = 0;
         const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
-        const CameraProjection proj = camera.project(p);
-        if (!proj.inside) continue;
-        const Vec3 to_camera = centre - p;
-        const double distance = length(to_camera);
-        if (!(distance > 0) || !(dot(nrm, to_camera) > kMinCosine * distance)) continue;
+        CameraProjection proj;
+        if (!look.candidate(p, nrm, proj)) continue;
         candidates.push_back(static_cast<uint32_t>(v));
         projections.push_back(proj);
       }
@@ -196,11 +140,9 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         const CameraProjection& proj = projections[i];
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
         const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
-        const double cosine = dot(nrm, normalize(centre - p)) / length(nrm);
-        const double q =
-            cosine * focal2 / (proj.depth * proj.depth) * border_weight(proj.pixel, w, h);
+        const float q = look.quality(p, nrm, proj);
         const Rgba s = sample_bilinear(view, proj.uv, WrapMode::kClamp, WrapMode::kClamp);
-        quality[v] = static_cast<float>(std::max(q, 1e-30));
+        quality[v] = q;
         rgb[v] = {s[0], s[1], s[2]};
       }
       in_view_chunk[block] = m;
@@ -270,17 +212,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
       }
       weight.assign(s1 - s0, 0.0);
       for (uint32_t i = s0; i < s1; ++i) {
-        switch (options.blend) {
-          case PhotoBlend::kSoft:
-            weight[i - s0] = std::exp(-(1 - samples[i].quality / q_max) / kSoftTemperature);
-            break;
-          case PhotoBlend::kBest:
-            weight[i - s0] = i == best ? 1 : 0;
-            break;
-          case PhotoBlend::kMean:
-            weight[i - s0] = 1;
-            break;
-        }
+        weight[i - s0] =
+            blend_weight(options.blend, samples[i].quality, static_cast<float>(q_max), i == best);
       }
       double total = 0;
       std::array<double, 3> sum{0, 0, 0};

@@ -22,7 +22,9 @@
 // share no vertex); the blend (soft: weights exp(-(1 - q / q_max) / 0.1),
 // best: the largest q, mean: equal); unseen vertices follow `occluded`
 // (the harmonic fill of bake/vertex/occlusion_fill.h by default). Results do
-// not depend on the thread count.
+// not depend on the thread count. The cull, quality, weights and photo
+// reading are bake/photo/photo_view.h's, shared with the atlas target
+// (bake/photo/photo_atlas.h), which runs this bake first.
 #pragma once
 
 #include <array>

@@ -28,4 +28,9 @@ void occluded_segments(const EmbreeScene& scene, double offset, const MeshData& 
                        std::span<const uint32_t> vertices, Vec3 centre, SegmentScratch& scratch,
                        uint8_t* occluded);
 
+// The same for arbitrary surface points (atlas samples): occluded[i] = 1
+// when the segment from points[i] to `centre` is blocked.
+void occluded_segments(const EmbreeScene& scene, double offset, std::span<const Vec3> points,
+                       Vec3 centre, SegmentScratch& scratch, uint8_t* occluded);
+
 }  // namespace texbake

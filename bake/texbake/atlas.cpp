@@ -34,6 +34,47 @@ Status validate_options(const AtlasOptions& options) {
   return detail::check_shading_colors(o.shading);
 }
 
+namespace detail {
+
+Status lay_out_atlas(const MeshData& mesh, const Proxy* proxy, const AtlasOptions& options,
+                     Progress& progress, Atlas& atlas) {
+  const AtlasBakeOptions& bo = options.bake;
+  auto t0 = Clock::now();
+  progress.start("uv_layout", 1);
+  if (progress.cancelled()) return cancelled_error();
+  UvLayoutOptions lo;
+  lo.uv = options.uv;
+  lo.atlas_size = bo.size;
+  // The padding the bake will dilate by (push-pull has no ring count: the
+  // default's) sets the gutter.
+  lo.padding = bo.padding >= 0 ? bo.padding : default_padding(bo.size);
+  Expected<UvLayoutResult> layout = proxy ? lay_out_uvs(mesh, *proxy, lo) : lay_out_uvs(mesh, lo);
+  if (!layout) return as_input(layout.error());
+  atlas.uv = layout->stats;
+  atlas.repeat_u = layout->repeat_u;
+  atlas.stats.warnings = std::move(layout->warnings);
+  switch (atlas.uv.used) {
+    case UvLayout::kProxy:
+      atlas.mesh = std::move(layout->mesh);
+      break;
+    case UvLayout::kGenerate:
+      atlas.mesh =
+          mesh_with_triangle_uvs(mesh, layout->generated.uvs, layout->generated.triangle_uvs);
+      break;
+    case UvLayout::kMesh:
+    case UvLayout::kAuto:
+      atlas.mesh = mesh;
+      break;
+  }
+  layout->generated = UvAtlas{};  // free the layout's tables before the bake
+  progress.finish();
+  if (progress.cancelled()) return cancelled_error();
+  atlas.stats.timings.uv_layout = seconds_since(t0);
+  return ok_status();
+}
+
+}  // namespace detail
+
 Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
                                    const AtlasOptions& options, const RunOptions& run) {
   const auto start = Clock::now();
@@ -44,39 +85,11 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
   Progress progress(run.progress);
   return detail::run_call<Atlas>(run, [&]() -> Expected<Atlas> {
     const AtlasBakeOptions& bo = options.bake;
-    auto t0 = Clock::now();
-    progress.start("uv_layout", 1);
-    if (progress.cancelled()) return cancelled_error();
-    UvLayoutOptions lo;
-    lo.uv = options.uv;
-    lo.atlas_size = bo.size;
-    // The padding the bake will dilate by (push-pull has no ring count: the
-    // default's) sets the gutter.
-    lo.padding = bo.padding >= 0 ? bo.padding : default_padding(bo.size);
-    Expected<UvLayoutResult> layout = lay_out_uvs(mesh, proxy, lo);
-    if (!layout) return detail::as_input(layout.error());
     Atlas atlas;
-    atlas.uv = layout->stats;
-    atlas.repeat_u = layout->repeat_u;
-    atlas.stats.warnings = std::move(layout->warnings);
-    switch (atlas.uv.used) {
-      case UvLayout::kProxy:
-        atlas.mesh = std::move(layout->mesh);
-        break;
-      case UvLayout::kGenerate:
-        atlas.mesh =
-            mesh_with_triangle_uvs(mesh, layout->generated.uvs, layout->generated.triangle_uvs);
-        break;
-      case UvLayout::kMesh:
-      case UvLayout::kAuto:
-        atlas.mesh = mesh;
-        break;
+    if (Status s = detail::lay_out_atlas(mesh, &proxy, options, progress, atlas); !s) {
+      return s.error();
     }
-    layout->generated = UvAtlas{};  // free the layout's tables before the bake
-    progress.finish();
-    if (progress.cancelled()) return cancelled_error();
     Timings& t = atlas.stats.timings;
-    t.uv_layout = seconds_since(t0);
 
     AtlasBakeOptions with_overlaps = bo;
     with_overlaps.resolve_overlaps = atlas.uv.overlap_texels > 0;

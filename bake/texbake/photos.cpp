@@ -1,6 +1,9 @@
-// read_cameras and bake_vertex_colors_from_photos: mesh_io's COLMAP and JSON
-// camera readers and bake/photo behind the API's conventions.
+// read_cameras, bake_vertex_colors_from_photos and
+// bake_atlas_texture_from_photos: mesh_io's COLMAP and JSON camera readers
+// and bake/photo behind the API's conventions.
+#include <string>
 #include <system_error>
+#include <utility>
 
 #include "bake/texbake/run.h"
 #include "bake/util/progress.h"
@@ -27,6 +30,19 @@ fs::path workspace_images(const fs::path& model) {
     if (dir == dir.parent_path()) break;
   }
   return {};
+}
+
+// The API's photo reader: mesh_io's read_image, advancing `progress` by one
+// per photo read after the first and cancelling when asked.
+PhotoReader progress_reader(Progress& progress, std::size_t& done) {
+  return [&progress, &done](const Photo& photo) -> Expected<PhotoImage> {
+    if (done > 0) progress.advance(1);
+    ++done;
+    if (progress.cancelled()) return cancelled_error();
+    Expected<Image> image = read_image(photo.path);
+    if (!image) return image.error();
+    return PhotoImage{image->width, image->height, std::move(image->pixels), image->color_space};
+  };
 }
 
 }  // namespace
@@ -80,14 +96,7 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
   return detail::run_call<PhotoColors>(run, [&]() -> Expected<PhotoColors> {
     progress.start("photos", photos.size());
     std::size_t done = 0;
-    const PhotoReader reader = [&](const Photo& photo) -> Expected<PhotoImage> {
-      if (done > 0) progress.advance(1);
-      ++done;
-      if (progress.cancelled()) return cancelled_error();
-      Expected<Image> image = read_image(photo.path);
-      if (!image) return image.error();
-      return PhotoImage{image->width, image->height, std::move(image->pixels), image->color_space};
-    };
+    const PhotoReader reader = progress_reader(progress, done);
     Expected<PhotoBakeResult> baked = bake_vertex_from_photos(mesh, photos, options, reader);
     if (progress.cancelled()) return cancelled_error();
     if (!baked) return detail::as_input(baked.error());
@@ -108,6 +117,64 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
     t.scene_build = baked->seconds_scene;
     t.bake = baked->seconds_photos;
     t.fill = baked->seconds_blend + baked->seconds_fill;
+    t.total = seconds_since(start);
+    return out;
+  });
+}
+
+Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
+                                                    const std::vector<Photo>& photos,
+                                                    const PhotoBakeOptions& options,
+                                                    const AtlasOptions& atlas,
+                                                    const RunOptions& run) {
+  const auto start = Clock::now();
+  if (Status s = validate_options(atlas); !s) return s.error();
+  if (atlas.uv == UvLayout::kProxy) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--uv proxy needs a proxy, and a bake from photos has none (use --uv "
+                      "generate or --uv mesh)");
+  }
+  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
+  if (Status s = check_uv_layout(mesh, atlas.uv); !s) return s.error();
+  if (Status s = check_triangles(mesh); !s) return s.error();
+  Progress progress(run.progress);
+  return detail::run_call<PhotoAtlas>(run, [&]() -> Expected<PhotoAtlas> {
+    PhotoAtlas out;
+    if (Status s = detail::lay_out_atlas(mesh, nullptr, atlas, progress, out.atlas); !s) {
+      return s.error();
+    }
+    progress.start("photos", 2 * photos.size());
+    std::size_t done = 0;
+    PhotoAtlasBakeOptions o;
+    o.size = atlas.bake.size;
+    o.samples = atlas.bake.samples;
+    o.padding = atlas.bake.padding;
+    o.photo = options;
+    Expected<PhotoAtlasBakeResult> baked =
+        bake_atlas_from_photos(out.atlas.mesh, photos, o, progress_reader(progress, done));
+    if (progress.cancelled()) return cancelled_error();
+    if (!baked) return detail::as_input(baked.error());
+    progress.finish();
+    if (progress.cancelled()) return cancelled_error();
+    out.atlas.image = std::move(baked->atlas);
+    out.cameras = std::move(baked->cameras);
+    Stats& st = out.atlas.stats;
+    for (std::string& w : baked->warnings) st.warnings.push_back(std::move(w));
+    Counts& c = st.counts;
+    c = detail::mesh_counts(mesh);
+    c.texels = baked->texels;
+    c.samples = baked->samples;
+    c.occluded = baked->samples - baked->seen;
+    c.filled = baked->filled;
+    c.unfilled = baked->vertices_unfilled;
+    c.border_samples = baked->border_samples;
+    c.padded = baked->padded;
+    Timings& t = st.timings;
+    t.rasterize = baked->seconds_rasterize;
+    t.scene_build = baked->seconds_scene;
+    t.bake = baked->seconds_geometry + baked->seconds_photos;
+    t.fill = baked->seconds_vertex;
+    t.pad = baked->seconds_pad;
     t.total = seconds_since(start);
     return out;
   });

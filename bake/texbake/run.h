@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "bake/util/parallel.h"
+#include "bake/util/progress.h"
 #include "texbake/texbake.h"
 
 namespace texbake::detail {
@@ -67,5 +68,14 @@ Status check_image(const ImageView& image);
 // A colour component outside [0, 1] (or NaN) in the shading options that
 // use it: kUsage naming --occluded / --outside.
 Status check_shading_colors(const VertexBakeOptions& options);
+
+// The UV layout stage of the atlas bakes (bake_atlas_texture and
+// bake_atlas_texture_from_photos): lays out `mesh`'s UVs as options.uv says
+// (proxy: null for a bake without one, which refuses kProxy) into
+// atlas.mesh, atlas.uv, atlas.repeat_u, atlas.stats.warnings and
+// timings.uv_layout. Progress stage "uv_layout". Errors: the layout's (as
+// as_input), kCancelled.
+Status lay_out_atlas(const MeshData& mesh, const Proxy* proxy, const AtlasOptions& options,
+                     Progress& progress, Atlas& atlas);
 
 }  // namespace texbake::detail

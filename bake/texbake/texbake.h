@@ -62,6 +62,7 @@
 #include "bake/atlas/bake_atlas.h"
 #include "bake/layers/layers_bake.h"
 #include "bake/photo/camera_check.h"
+#include "bake/photo/photo_atlas.h"
 #include "bake/photo/photo_bake.h"
 #include "bake/render/render_preview.h"
 #include "bake/shade/options.h"
@@ -296,6 +297,39 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
 // 1 .. kMaxAtlasSamples, a padding neither a count in 0 .. kMaxAtlasSize nor
 // kPaddingDefault / kPaddingInfinite, a colour component outside [0, 1].
 Status validate_options(const AtlasOptions& options);
+
+// ---- Atlas from photographs (SPEC section 9) -------------------------------
+
+struct PhotoAtlas {
+  Atlas atlas;  // mesh with the UVs, image (sRGB), uv, stats (below)
+  // Per photo, over the atlas samples: in_view, visible, weight_share; the
+  // exposure gains (solved on the vertices, see bake/photo/photo_atlas.h).
+  std::vector<PhotoCameraStats> cameras;
+  // atlas.stats: counts.texels, samples (atlas supersamples), occluded
+  // (samples no photo sees), filled (of those, coloured by the fill),
+  // unfilled (vertices in components no photo sees), border_samples,
+  // padded; timings.uv_layout, rasterize, scene_build, bake (the atlas's
+  // geometry and photo passes), fill (the vertex photo bake: gains and the
+  // fill's colours), pad, total.
+};
+
+// The atlas target of bake --cameras (the contract of
+// bake/photo/photo_atlas.h): the UV layout of atlas.uv (kAuto, kMesh or
+// kGenerate, as bake_atlas_texture lays it out; kProxy has no proxy here),
+// then every atlas supersample blended from the photos that see it with
+// the vertex bake's quality, blend and exposure rules, unseen samples as
+// options.occluded says, then atlas.bake.padding. atlas.bake.shading is not
+// used (options holds the photo bake's occluded rule). Photos are read one
+// at a time, twice each. Errors: kUsage (atlas options out of range, --uv
+// proxy, kMesh on a mesh without UVs, no photos), kInput (a photo
+// unreadable or of the wrong size, a mesh with no non-degenerate triangle
+// or that the layout cannot chart), kInternal, kCancelled. Progress
+// stages: "uv_layout", "photos" (per photo read: two per photo).
+Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
+                                                    const std::vector<Photo>& photos,
+                                                    const PhotoBakeOptions& options = {},
+                                                    const AtlasOptions& atlas = {},
+                                                    const RunOptions& run = {});
 
 // ---- Render and compare ---------------------------------------------------
 

@@ -46,9 +46,17 @@ void check_overlaps(const MeshUvCheck& check, const char* consequence, UvLayoutR
 
 }  // namespace
 
-Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
-                                     const UvLayoutOptions& options) {
+namespace {
+
+// proxy: null for a bake without one (kProxy is then refused).
+Expected<UvLayoutResult> lay_out(const MeshData& mesh, const Proxy* proxy,
+                                 const UvLayoutOptions& options) {
   if (Status s = check_uv_layout(mesh, options.uv); !s) return s.error();
+  if (options.uv == UvLayout::kProxy && !proxy) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--uv proxy needs a proxy, and this bake has none (use --uv generate or "
+                      "--uv mesh)");
+  }
   UvLayoutResult result;
   UvLayout used = options.uv;
   if (used == UvLayout::kAuto) used = mesh.has_uvs() ? UvLayout::kMesh : UvLayout::kGenerate;
@@ -65,7 +73,7 @@ Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
       break;
     }
     case UvLayout::kProxy: {
-      Expected<ProxyUvLayout> cut = proxy_uv_layout(mesh, proxy);
+      Expected<ProxyUvLayout> cut = proxy_uv_layout(mesh, *proxy);
       if (!cut) return cut.error();
       result.stats.cut_triangles = cut->stats.cut_triangles;
       if (cut->stats.wide_triangles > 0) {
@@ -79,7 +87,7 @@ Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
                      "as seen from the proxy); the visible ones colour the shared texels",
                      result);
       result.mesh = std::move(cut->mesh);
-      result.repeat_u = wrap_u(proxy) == WrapMode::kRepeat;
+      result.repeat_u = wrap_u(*proxy) == WrapMode::kRepeat;
       break;
     }
     case UvLayout::kGenerate:
@@ -97,6 +105,17 @@ Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
     }
   }
   return result;
+}
+
+}  // namespace
+
+Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
+                                     const UvLayoutOptions& options) {
+  return lay_out(mesh, &proxy, options);
+}
+
+Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const UvLayoutOptions& options) {
+  return lay_out(mesh, nullptr, options);
 }
 
 }  // namespace texbake

@@ -1,0 +1,315 @@
+#include "bake/photo/photo_atlas.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <chrono>
+#include <optional>
+
+#include "bake/atlas/atlas_raster.h"
+#include "bake/photo/photo_view.h"
+#include "bake/photo/segments.h"
+#include "bake/trace/embree_scene.h"
+#include "bake/trace/visibility.h"
+#include "bake/util/parallel.h"
+#include "mapping/sample.h"
+#include "mesh_io/vertex_normals.h"
+
+namespace texbake {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using photo_detail::blend_weight;
+using photo_detail::CameraLook;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Samples per parallel block: a multiple of 64, so that each word of a
+// camera's bitset is written by one block only.
+constexpr std::size_t kBlock = 4096;
+static_assert(kBlock % 64 == 0);
+constexpr std::size_t kTexelBlock = 1024;  // texels per block of stage 6
+
+// A sample's point, unit smooth normal and (unnormalised) face normal.
+struct SurfacePoint {
+  Vec3 p, n, face;
+};
+
+Vec3 vec(Float3 f) {
+  return {f.x, f.y, f.z};
+}
+
+SurfacePoint surface_point(const MeshData& mesh, const std::vector<Float3>& normals,
+                           const AtlasRaster& r, std::size_t s) {
+  const auto& tri = mesh.triangles[r.sample_triangle[s]];
+  const double b1 = r.sample_b1[s], b2 = r.sample_b2[s], b0 = 1 - b1 - b2;
+  const Vec3 a = vec(mesh.positions[tri[0]]), b = vec(mesh.positions[tri[1]]),
+             c = vec(mesh.positions[tri[2]]);
+  SurfacePoint out;
+  out.p = a * b0 + b * b1 + c * b2;
+  out.face = cross(b - a, c - a);
+  const Vec3 n = vec(normals[tri[0]]) * b0 + vec(normals[tri[1]]) * b1 + vec(normals[tri[2]]) * b2;
+  const double len = length(n);
+  const double face_len = length(out.face);
+  // Opposite vertex normals can cancel: the face's direction then.
+  out.n = len > 1e-12 ? n / len : (face_len > 0 ? out.face / face_len : Vec3{0, 0, 0});
+  return out;
+}
+
+// The camera's cull of a sample (see the file comment): the vertex bake's,
+// and the face turned towards the camera.
+bool candidate(const CameraLook& look, const SurfacePoint& sp, CameraProjection& proj) {
+  return look.candidate(sp.p, sp.n, proj) && dot(sp.face, look.centre() - sp.p) > 0;
+}
+
+// Calls fn(s) for the samples s in [begin, end) whose bit is set.
+template <class Fn>
+void for_each_seen(const std::vector<uint64_t>& bits, std::size_t begin, std::size_t end, Fn fn) {
+  for (std::size_t word = begin >> 6; word < (end + 63) >> 6; ++word) {
+    uint64_t b = bits[word];
+    while (b) {
+      const std::size_t s = (word << 6) + static_cast<std::size_t>(std::countr_zero(b));
+      b &= b - 1;
+      if (s >= begin && s < end) fn(s);
+    }
+  }
+}
+
+}  // namespace
+
+Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
+                                                      const std::vector<Photo>& photos,
+                                                      const PhotoAtlasBakeOptions& options,
+                                                      const PhotoReader& reader) {
+  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
+  const bool constant_padding =
+      options.padding == kPaddingDefault || options.padding == kPaddingInfinite;
+  if (!constant_padding && (options.padding < 0 || options.padding > kMaxAtlasSize)) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--padding " + std::to_string(options.padding) + " is not a texel count");
+  }
+  const PhotoReader read = reader ? reader : PhotoReader(photo_detail::read_photo_file);
+  const PhotoBakeOptions& po = options.photo;
+  const bool fill = po.occluded != OccludedMode::kColor;
+  PhotoAtlasBakeResult result;
+
+  // 2 first (cheap, and its errors are the layout's): rasterise.
+  auto t0 = Clock::now();
+  Expected<AtlasRaster> raster_or =
+      rasterize_atlas(uv_mesh, AtlasRasterOptions{options.size, options.samples, false});
+  if (!raster_or) return raster_or.error();
+  const AtlasRaster& raster = *raster_or;
+  const std::size_t ns = raster.sample_count();
+  const std::size_t spt = static_cast<std::size_t>(raster.samples_per_texel);
+  result.texels = raster.texels.size();
+  result.samples = ns;
+  result.border_samples = raster.border_samples;
+  result.seconds_rasterize = seconds_since(t0);
+
+  // 1. The vertex photo bake: the gains, and the per-vertex colours of the fill.
+  t0 = Clock::now();
+  Expected<PhotoBakeResult> vertex = bake_vertex_from_photos(uv_mesh, photos, po, read);
+  if (!vertex) return vertex.error();
+  result.cameras = std::move(vertex->cameras);
+  result.warnings = std::move(vertex->warnings);
+  result.vertices_seen = vertex->seen;
+  result.vertices_filled = vertex->filled;
+  result.vertices_unfilled = vertex->unfilled;
+  std::vector<Rgba> fill_colors;  // linear light
+  if (fill) {
+    fill_colors = std::move(vertex->colors);
+    for (Rgba& c : fill_colors) c = srgb_to_linear(c);
+  }
+  vertex = PhotoBakeResult{};
+  for (PhotoCameraStats& s : result.cameras) s.in_view = s.visible = 0, s.weight_share = 0;
+  result.seconds_vertex = seconds_since(t0);
+
+  t0 = Clock::now();
+  std::optional<EmbreeScene> scene;
+  {
+    Expected<EmbreeScene> built = EmbreeScene::build(uv_mesh, BuildQuality::kLow);
+    if (!built) return built.error();
+    scene.emplace(std::move(*built));
+  }
+  const double offset = visibility_offset(*scene);
+  const std::vector<Float3> normals = smooth_vertex_normals(uv_mesh);
+  result.seconds_scene = seconds_since(t0);
+
+  // 3. Geometry pass.
+  t0 = Clock::now();
+  const std::size_t blocks = block_count(ns, kBlock);
+  const std::size_t words = (ns + 63) / 64;
+  std::vector<float> q_max(ns, 0.f), total(ns, 0.f);
+  std::vector<uint32_t> best;
+  if (po.blend == PhotoBlend::kBest) best.assign(ns, 0);
+  std::vector<std::vector<uint64_t>> seen_by(photos.size());
+  for (std::size_t c = 0; c < photos.size(); ++c) {
+    const CameraLook look(photos[c].camera);
+    std::vector<uint64_t>& bits = seen_by[c];
+    bits.assign(words, 0);
+    std::vector<std::size_t> in_view(blocks, 0), visible(blocks, 0);
+    parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
+      std::vector<uint32_t> candidates;
+      std::vector<Vec3> points;
+      std::vector<SurfacePoint> surface;
+      std::vector<CameraProjection> projections;
+      SegmentScratch scratch;
+      std::vector<uint8_t> occluded;
+      for (std::size_t s = begin; s < end; ++s) {
+        const SurfacePoint sp = surface_point(uv_mesh, normals, raster, s);
+        CameraProjection proj;
+        if (!candidate(look, sp, proj)) continue;
+        candidates.push_back(static_cast<uint32_t>(s));
+        points.push_back(sp.p);
+        surface.push_back(sp);
+        projections.push_back(proj);
+      }
+      const std::size_t m = candidates.size();
+      occluded.assign(m, 0);
+      occluded_segments(*scene, offset, points, look.centre(), scratch, occluded.data());
+      std::size_t seen = 0;
+      for (std::size_t i = 0; i < m; ++i) {
+        if (occluded[i]) continue;
+        ++seen;
+        const std::size_t s = candidates[i];
+        bits[s >> 6] |= uint64_t{1} << (s & 63);
+        const float q = look.quality(surface[i].p, surface[i].n, projections[i]);
+        if (q > q_max[s]) {
+          q_max[s] = q;
+          if (!best.empty()) best[s] = static_cast<uint32_t>(c);
+        }
+        if (po.blend == PhotoBlend::kMean) total[s] += 1;
+      }
+      in_view[block] = m;
+      visible[block] = seen;
+    });
+    for (std::size_t b = 0; b < blocks; ++b) {
+      result.cameras[c].in_view += in_view[b];
+      result.cameras[c].visible += visible[b];
+    }
+  }
+  scene.reset();  // the BVH is not needed any more
+  result.seconds_geometry = seconds_since(t0);
+
+  // 4. Weight sums.
+  t0 = Clock::now();
+  if (po.blend == PhotoBlend::kBest) {
+    for (std::size_t s = 0; s < ns; ++s) total[s] = q_max[s] > 0 ? 1.f : 0.f;
+  } else if (po.blend == PhotoBlend::kSoft) {
+    for (std::size_t c = 0; c < photos.size(); ++c) {
+      const CameraLook look(photos[c].camera);
+      const std::vector<uint64_t>& bits = seen_by[c];
+      parallel_for_blocks(ns, kBlock, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for_each_seen(bits, begin, end, [&](std::size_t s) {
+          const SurfacePoint sp = surface_point(uv_mesh, normals, raster, s);
+          const CameraProjection proj = photos[c].camera.project(sp.p);
+          total[s] += static_cast<float>(
+              blend_weight(PhotoBlend::kSoft, look.quality(sp.p, sp.n, proj), q_max[s], false));
+        });
+      });
+    }
+  }
+
+  // 5. Colour pass, one photo at a time.
+  std::vector<std::array<float, 3>> rgb(ns, {0.f, 0.f, 0.f});
+  for (std::size_t c = 0; c < photos.size(); ++c) {
+    const Photo& photo = photos[c];
+    PhotoCameraStats scratch_stats;
+    std::vector<std::string> scratch_warnings;  // the vertex bake gave them
+    Expected<PhotoImage> image =
+        photo_detail::load_photo(photo, read, scratch_stats, scratch_warnings);
+    if (!image) return image.error();
+    const ImageView view{image->width, image->height, image->pixels.data()};
+    const CameraLook look(photo.camera);
+    const std::vector<uint64_t>& bits = seen_by[c];
+    const std::array<double, 3> gain = result.cameras[c].gain;
+    std::vector<double> share(blocks, 0.0);
+    parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
+      double block_share = 0;
+      for_each_seen(bits, begin, end, [&](std::size_t s) {
+        const SurfacePoint sp = surface_point(uv_mesh, normals, raster, s);
+        const CameraProjection proj = photo.camera.project(sp.p);
+        const bool is_best = !best.empty() && best[s] == c;
+        const double w =
+            blend_weight(po.blend, look.quality(sp.p, sp.n, proj), q_max[s], is_best) / total[s];
+        if (!(w > 0)) return;
+        const Rgba x = sample_bilinear(view, proj.uv, WrapMode::kClamp, WrapMode::kClamp);
+        for (int ch = 0; ch < 3; ++ch) rgb[s][ch] += static_cast<float>(w * gain[ch] * x[ch]);
+        block_share += w;
+      });
+      share[block] = block_share;
+    });
+    double sum = 0;
+    for (double v : share) sum += v;
+    result.cameras[c].weight_share = sum;
+    seen_by[c] = {};  // no pass needs this camera's bits any more
+  }
+  seen_by = {};
+  result.seconds_photos = seconds_since(t0);
+
+  // 6. Texels: the mean of their samples, in linear light, to sRGB.
+  t0 = Clock::now();
+  const int n = options.size;
+  result.atlas.width = result.atlas.height = n;
+  result.atlas.pixels.assign(static_cast<std::size_t>(n) * n * 4, 0.f);
+  result.atlas.color_space = ColorSpace::kSrgb;
+  result.baked.assign(static_cast<std::size_t>(n) * n, 0);
+  const Rgba constant_linear = srgb_to_linear(po.occluded_color);
+  const std::size_t texel_blocks = block_count(result.texels, kTexelBlock);
+  std::vector<std::size_t> seen_block(texel_blocks, 0), filled_block(texel_blocks, 0);
+  parallel_for_blocks(
+      result.texels, kTexelBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
+        std::size_t seen = 0, filled = 0;
+        for (std::size_t k = begin; k < end; ++k) {
+          std::array<double, 4> acc{0, 0, 0, 0};
+          std::size_t constants = 0;
+          for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
+            if (q_max[s] > 0) {
+              ++seen;
+              for (int ch = 0; ch < 3; ++ch) acc[ch] += rgb[s][ch];
+              acc[3] += 1;
+            } else if (fill) {
+              ++filled;
+              const auto& tri = uv_mesh.triangles[raster.sample_triangle[s]];
+              const double b1 = raster.sample_b1[s], b2 = raster.sample_b2[s], b0 = 1 - b1 - b2;
+              for (int ch = 0; ch < 4; ++ch) {
+                acc[ch] += b0 * fill_colors[tri[0]][ch] + b1 * fill_colors[tri[1]][ch] +
+                           b2 * fill_colors[tri[2]][ch];
+              }
+            } else {
+              ++constants;
+              for (int ch = 0; ch < 4; ++ch) acc[ch] += constant_linear[ch];
+            }
+          }
+          const std::size_t t = raster.texels[k];
+          Rgba out = po.occluded_color;  // wholly unseen under --occluded R,G,B: exactly
+          if (constants < spt) {
+            for (int ch = 0; ch < 4; ++ch) {
+              out[ch] = static_cast<float>(acc[ch] / static_cast<double>(spt));
+            }
+            out = linear_to_srgb(out);
+          }
+          std::copy(out.begin(), out.end(), result.atlas.pixels.begin() + 4 * t);
+          result.baked[t] = 1;
+        }
+        seen_block[block] = seen;
+        filled_block[block] = filled;
+      });
+  for (std::size_t b = 0; b < texel_blocks; ++b) {
+    result.seen += seen_block[b];
+    result.filled += filled_block[b];
+  }
+  for (PhotoCameraStats& s : result.cameras) {
+    s.weight_share = result.seen ? s.weight_share / static_cast<double>(result.seen) : 0;
+  }
+
+  // 7. Pad.
+  result.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);
+  result.seconds_pad = seconds_since(t0);
+  return result;
+}
+
+}  // namespace texbake

@@ -1,0 +1,105 @@
+// Colouring a texture atlas from several calibrated photographs (SPEC
+// section 9, `bake --cameras` with the atlas target): the atlas's
+// supersamples (bake/atlas/atlas_raster.h) take the place of the vertex
+// bake's vertices, with the same cull, visibility, quality, exposure and
+// blend rules (bake/photo/photo_bake.h, sharing bake/photo/photo_view.h).
+//
+// Stages, photos read one at a time (never all at once):
+//  1. the vertex photo bake (bake_vertex_from_photos) on the same mesh: its
+//     exposure gains (solved on vertex samples) are the atlas's, and its
+//     per-vertex colours (blended, and filled where no photo sees a vertex)
+//     are what unseen samples take under --occluded fill, interpolated
+//     barycentrically over the sample's triangle in linear light, as the
+//     proxy atlas does with its per-vertex fill;
+//  2. rasterise the layout: covered texels and their supersamples (triangle
+//     and barycentrics);
+//  3. geometry pass, per camera: each sample's point P and normal; cull
+//     (inside the photo, in front, within 75 degrees, and the face normal
+//     facing C), the segment P -> C traced (bake/photo/segments.h); per
+//     sample q_max (and the first camera reaching it, for kBest; the count
+//     of cameras, for kMean), and one bit per camera and sample saying the
+//     camera sees it, so no segment is traced twice;
+//  4. weight pass (kSoft only, no photo, no ray): per sample the sum W of
+//     its weights exp(-(1 - q / q_max) / 0.1);
+//  5. colour pass, per photo: for every sample it sees, w / W times its
+//     gain times the bilinear sample of the linearised photo is added to
+//     the sample's colour (and w / W to the camera's weight share);
+//  6. texel = the plain mean of its samples in linear light, encoded to
+//     sRGB (alpha 1); under --occluded R,G,B a texel all of whose samples
+//     are unseen is the colour exactly, one partly so averages it (decoded)
+//     with its other samples;
+//  7. padding as the proxy atlas (pad_atlas of bake/atlas/bake_atlas.h).
+//
+// Normal: the interpolated smooth vertex normal (normalised) gives
+// cos(theta) and the 75-degree cut, as the vertex bake's smooth normals
+// do: q, and so the blend weights, vary continuously across triangle
+// edges (the face normal would change every weight in steps at each edge,
+// which shows as faceting where two photos disagree), and at a vertex the
+// sample's q is the vertex bake's. The face normal adds SPEC's back-face
+// rule (face normal . d > 0), which the smooth normal alone can miss at
+// creases.
+//
+// Memory: the samples (12 bytes each), per sample q_max, W and the colour
+// (20 bytes; kBest 4 more), one bit per camera and sample, the atlas, the
+// Embree scene and one photo: a 2048 atlas with 4 samples (about 12 M
+// samples at 70 % coverage) and 100 photos holds some 0.6 GB besides the
+// photo and the scene (measured: the bunny subdivided to 1.2 M triangles,
+// 10.6 M samples, 8 photos of 960 x 720: 0.81 GB peak for the whole
+// command). An overlapping layout is baked with each sample on
+// its lowest-index triangle (AtlasBakeOptions::resolve_overlaps has no
+// counterpart here: which surface is "visible" differs per photo). Results
+// do not depend on the thread count.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bake/atlas/bake_atlas.h"  // kPaddingDefault, kPaddingInfinite
+#include "bake/photo/photo_bake.h"
+#include "mesh_io/image_io.h"
+#include "mesh_io/mesh_data.h"
+
+namespace texbake {
+
+struct PhotoAtlasBakeOptions {
+  int size = 2048;                // texels per side, 1 .. kMaxAtlasSize
+  int samples = 4;                // supersamples per covered texel, 1 .. kMaxAtlasSamples
+  int padding = kPaddingDefault;  // as AtlasBakeOptions::padding
+  PhotoBakeOptions photo;         // blend, exposure, occluded (+ colour)
+};
+
+struct PhotoAtlasBakeResult {
+  Image atlas;                 // size x size RGBA, sRGB-encoded (color_space kSrgb)
+  std::vector<uint8_t> baked;  // size * size: 1 where covered by the layout
+  // Per photo: in_view, visible and weight_share over the atlas samples;
+  // gain, photo size and scaled from the vertex bake (stage 1).
+  std::vector<PhotoCameraStats> cameras;
+  std::size_t texels = 0;          // covered texels
+  std::size_t samples = 0;         // their supersamples
+  std::size_t border_samples = 0;  // samples clamped onto a triangle (chart borders)
+  std::size_t seen = 0;            // samples seen by at least one photo
+  std::size_t filled = 0;          // unseen samples coloured by the fill (not --occluded R,G,B)
+  std::size_t padded = 0;          // texels filled by padding
+  // The vertex bake's figures (stage 1): vertices seen, filled, unfilled.
+  std::size_t vertices_seen = 0, vertices_filled = 0, vertices_unfilled = 0;
+  std::vector<std::string> warnings;
+  // Seconds: stage 1 (vertex), 2 (rasterize), the scene, 3 (geometry),
+  // 4 and 5 (photos), 6 and 7 (pad).
+  double seconds_vertex = 0, seconds_rasterize = 0, seconds_scene = 0, seconds_geometry = 0,
+         seconds_photos = 0, seconds_pad = 0;
+};
+
+// uv_mesh: a mesh with per-corner UVs covering its triangles (as for
+// bake_atlas). Errors: bake_vertex_from_photos's (a photo unreadable or of
+// the wrong size, no photos, ...), rasterize_atlas's (bad size or samples,
+// no UVs, bad UVs), kInvalidArgument for a bad padding, kInternal (Embree).
+// `reader` (default: mesh_io's read_image) is called twice per photo, in
+// photo order: by stage 1, then by stage 5.
+Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
+                                                      const std::vector<Photo>& photos,
+                                                      const PhotoAtlasBakeOptions& options,
+                                                      const PhotoReader& reader = {});
+
+}  // namespace texbake

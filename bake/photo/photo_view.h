@@ -1,0 +1,90 @@
+// What the vertex and the atlas photo bakes (photo_bake.h, photo_atlas.h)
+// share (SPEC section 9): reading and checking one photo, and one camera's
+// view of a surface point: the cull (inside the photo, in front, normal
+// within 75 degrees of d), the quality q = cos(theta) (f / z)^2 border and
+// the blend weight. Internal to bake/photo.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "bake/photo/photo_bake.h"
+#include "mapping/camera.h"
+#include "mapping/vec.h"
+
+namespace texbake::photo_detail {
+
+inline const double kMinCosine = std::cos(75.0 * std::numbers::pi / 180.0);  // theta > 75: unseen
+inline constexpr double kBorderFraction = 0.05;  // border weight reaches 1 at 5 % of min(W, H)
+inline constexpr double kSoftTemperature = 0.1;  // --blend soft: exp(-(1 - q / q_max) / 0.1)
+
+// mesh_io's read_image as a PhotoReader (the default reader).
+Expected<PhotoImage> read_photo_file(const Photo& photo);
+
+// Reads `photo` with `read`, checks its size (the camera's, or its aspect
+// at another size: then stats.scaled and a warning), records its size in
+// `stats` and linearises an sRGB photo in place (so that bilinear
+// interpolation happens in linear light too; a linear photo is used as is).
+// Errors: the reader's; kParse for a size of another aspect.
+Expected<PhotoImage> load_photo(const Photo& photo, const PhotoReader& read,
+                                PhotoCameraStats& stats, std::vector<std::string>& warnings);
+
+// 0 at the photo's edge, 1 from kBorderFraction * min(W, H) inside on.
+double border_weight(Vec2 pixel, int w, int h);
+
+// One camera's view of surface points.
+class CameraLook {
+ public:
+  explicit CameraLook(const CameraProjector& camera)
+      : camera_(&camera),
+        centre_(camera.centre()),
+        w_(camera.spec().width),
+        h_(camera.spec().height),
+        focal2_(camera.mean_focal() * camera.mean_focal()) {}
+
+  Vec3 centre() const { return centre_; }
+
+  // The point p with the unit normal n is a candidate: it projects inside
+  // the photo, in front of the camera, with n within 75 degrees of
+  // d = normalize(C - p) (a zero n never is). Sets proj.
+  bool candidate(Vec3 p, Vec3 n, CameraProjection& proj) const {
+    proj = camera_->project(p);
+    if (!proj.inside) return false;
+    const Vec3 to_camera = centre_ - p;
+    const double distance = length(to_camera);
+    return distance > 0 && dot(n, to_camera) > kMinCosine * distance;
+  }
+
+  // The quality of a visible candidate, as stored (float, at least 1e-30
+  // so that 0 means "not seen"): cos(theta) (f / z)^2 border.
+  float quality(Vec3 p, Vec3 n, const CameraProjection& proj) const {
+    const double cosine = dot(n, normalize(centre_ - p)) / length(n);
+    const double q =
+        cosine * focal2_ / (proj.depth * proj.depth) * border_weight(proj.pixel, w_, h_);
+    return static_cast<float>(std::max(q, 1e-30));
+  }
+
+ private:
+  const CameraProjector* camera_;
+  Vec3 centre_;
+  int w_, h_;
+  double focal2_;
+};
+
+// The blend weight of a view of quality q at a point whose best view has
+// q_max; `best`: this view is the point's first of largest q (kBest).
+inline double blend_weight(PhotoBlend blend, float q, float q_max, bool best) {
+  switch (blend) {
+    case PhotoBlend::kSoft:
+      return std::exp(-(1 - static_cast<double>(q) / q_max) / kSoftTemperature);
+    case PhotoBlend::kBest:
+      return best ? 1 : 0;
+    case PhotoBlend::kMean:
+      return 1;
+  }
+  return 0;
+}
+
+}  // namespace texbake::photo_detail
