@@ -36,43 +36,57 @@ struct Sample {
   std::array<float, 3> rgb{};  // linear light, before the gain
 };
 
-// Exposure gains of one channel: minimise sum over vertices and pairs (a, b)
-// of photos seeing it of (g_a x_a - g_b x_b)^2 + lambda sum (g_k - 1)^2,
-// subject to mean(g) = 1 (without the constraint the data term would pull
-// every gain to 0). lambda is weak (1e-4 of the mean diagonal): it only
-// decides photos that share no vertex with another. Solved through the
-// KKT system, of the photo count's size.
+// Exposure gains of one channel, solved in the log domain so that they are
+// exactly scale-invariant: with l = log g and y = log x, minimise over the
+// vertices and the pairs (a, b) of photos seeing it
+//   sum (l_a + y_a - l_b - y_b)^2 + lambda sum l_k^2,  subject to sum l_k = 0
+// (the gains' geometric mean is 1; without it the data term leaves a
+// common factor free). A photo scaled by s then gets exactly 1 / s times
+// its gain (up to the common factor), whatever its overlap with the others;
+// the linear form (g_a x_a - g_b x_b)^2 weighed pairs by their brightness
+// and biased weakly connected photos. Pairs where either value is below
+// kMinGainSample (near black: 8-bit noise dominates the ratio) are left out.
+// lambda is weak (1e-4 of the mean diagonal): it only decides photos that
+// share no vertex with another. Solved through the KKT system, of the photo
+// count's size.
+constexpr double kMinGainSample = 0.003;  // linear light (about 8-bit level 15 of sRGB)
+
 Expected<std::vector<double>> solve_gains(const std::vector<uint32_t>& start,
                                           const std::vector<Sample>& samples, std::size_t cameras,
                                           int channel) {
   const auto k = static_cast<Eigen::Index>(cameras);
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k + 1, k + 1);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
   for (std::size_t v = 0; v + 1 < start.size(); ++v) {
     for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
+      const double xa = samples[i].rgb[channel];
+      if (!(xa >= kMinGainSample)) continue;
       for (uint32_t j = i + 1; j < start[v + 1]; ++j) {
-        const double xa = samples[i].rgb[channel], xb = samples[j].rgb[channel];
+        const double xb = samples[j].rgb[channel];
+        if (!(xb >= kMinGainSample)) continue;
+        const double d = std::log(xa) - std::log(xb);
         const Eigen::Index a = samples[i].camera, b = samples[j].camera;
-        m(a, a) += xa * xa, m(b, b) += xb * xb;
-        m(a, b) -= xa * xb, m(b, a) -= xa * xb;
+        m(a, a) += 1, m(b, b) += 1;
+        m(a, b) -= 1, m(b, a) -= 1;
+        rhs[a] -= d, rhs[b] += d;
       }
     }
   }
   const double lambda =
-      1e-4 * std::max(m.topLeftCorner(k, k).trace() / static_cast<double>(k), 1e-12);
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
+      1e-4 * std::max(m.topLeftCorner(k, k).trace() / static_cast<double>(k), 1.0);
   for (Eigen::Index a = 0; a < k; ++a) {
     m(a, a) += lambda;
-    rhs[a] = lambda;
     m(a, k) = m(k, a) = 1;
   }
-  rhs[k] = static_cast<double>(k);
-  const Eigen::VectorXd g = m.fullPivLu().solve(rhs);
+  rhs[k] = 0;
+  const Eigen::VectorXd l = m.fullPivLu().solve(rhs);
   std::vector<double> gains(cameras);
   for (Eigen::Index a = 0; a < k; ++a) {
-    if (!(std::isfinite(g[a]) && g[a] > 0)) {
+    const double g = std::exp(l[a]);
+    if (!(std::isfinite(g) && g > 0)) {
       return make_error(ErrorCode::kInternal, "exposure gains: the least-squares solve failed");
     }
-    gains[static_cast<std::size_t>(a)] = g[a];
+    gains[static_cast<std::size_t>(a)] = g;
   }
   return gains;
 }

@@ -17,9 +17,11 @@
 //     (f the mean focal length, z the depth, border rising from 0 at the
 //     photo's edge to 1 at 5 % of min(W, H) inside).
 // Then: exposure gains (ExposureMode::kGain: per photo and channel, least
-// squares over pairs of photos seeing the same vertex, g_a c_a = g_b c_b,
-// with the mean gain fixed at 1 and a weak prior towards 1 for photos that
-// share no vertex); the blend (soft: weights exp(-(1 - q / q_max) / 0.1),
+// squares in the log domain over pairs of photos seeing the same vertex,
+// log g_a + log c_a = log g_b + log c_b, pairs with a near-black value left
+// out, with the gains' geometric mean fixed at 1 and a weak prior towards 1
+// for photos that share no vertex: a photo scaled by s gets 1 / s times its
+// gain); the blend (soft: weights exp(-(1 - q / q_max) / 0.1),
 // best: the largest q, mean: equal); unseen vertices follow `occluded`
 // (the harmonic fill of bake/vertex/occlusion_fill.h by default). Results do
 // not depend on the thread count. The cull, quality, weights and photo
