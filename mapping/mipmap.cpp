@@ -1,0 +1,214 @@
+// MIP pyramid by an exact box filter and the EWA lookup (mapping/mipmap.h).
+#include "mapping/mipmap.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "mapping/sample.h"
+
+namespace texbake {
+
+namespace {
+
+// One output texel of a 1D box reduction: input texels [first, first + count)
+// with weights summing to 1 (their overlap with the output's interval).
+struct BoxTap {
+  int first = 0, count = 0;
+  double weight[3] = {0, 0, 0};  // a reduction by < 3 touches at most 3 inputs
+};
+
+std::vector<BoxTap> box_taps(int in, int out) {
+  std::vector<BoxTap> taps(static_cast<std::size_t>(out));
+  const double ratio = static_cast<double>(in) / out;  // in [2, 3) (or 1 for a size-1 side)
+  for (int j = 0; j < out; ++j) {
+    const double lo = j * ratio, hi = (j + 1) * ratio;
+    BoxTap& t = taps[static_cast<std::size_t>(j)];
+    t.first = static_cast<int>(std::floor(lo));
+    const int last = std::min(in - 1, static_cast<int>(std::ceil(hi)) - 1);
+    t.count = last - t.first + 1;
+    for (int i = t.first; i <= last; ++i) {
+      const double overlap = std::min<double>(i + 1, hi) - std::max<double>(i, lo);
+      t.weight[i - t.first] = overlap / ratio;
+    }
+  }
+  return taps;
+}
+
+// Level `src` reduced to w x h (separable: rows, then columns), in double.
+std::vector<float> reduce(const ImageView& src, int w, int h) {
+  const std::vector<BoxTap> tx = box_taps(src.width, w), ty = box_taps(src.height, h);
+  std::vector<double> rows(static_cast<std::size_t>(w) * src.height * 4);
+  for (int y = 0; y < src.height; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const BoxTap& t = tx[static_cast<std::size_t>(x)];
+      double* o = &rows[(static_cast<std::size_t>(y) * w + x) * 4];
+      for (int k = 0; k < t.count; ++k) {
+        const float* p = src.pixel(t.first + k, y);
+        for (int c = 0; c < 4; ++c) o[c] += t.weight[k] * p[c];
+      }
+    }
+  }
+  std::vector<float> out(static_cast<std::size_t>(w) * h * 4);
+  for (int y = 0; y < h; ++y) {
+    const BoxTap& t = ty[static_cast<std::size_t>(y)];
+    for (int x = 0; x < w; ++x) {
+      double acc[4] = {0, 0, 0, 0};
+      for (int k = 0; k < t.count; ++k) {
+        const double* p = &rows[(static_cast<std::size_t>(t.first + k) * w + x) * 4];
+        for (int c = 0; c < 4; ++c) acc[c] += t.weight[k] * p[c];
+      }
+      float* o = &out[(static_cast<std::size_t>(y) * w + x) * 4];
+      for (int c = 0; c < 4; ++c) o[c] = static_cast<float>(acc[c]);
+    }
+  }
+  return out;
+}
+
+// pbrt-v4's MIPFilterLUT: exp(-alpha r^2) - exp(-alpha), alpha = 2, for r^2
+// = i / (n - 1).
+constexpr int kLutSize = 128;
+const std::array<double, kLutSize>& gaussian_lut() {
+  static const std::array<double, kLutSize> lut = [] {
+    std::array<double, kLutSize> t{};
+    for (int i = 0; i < kLutSize; ++i) {
+      const double r2 = static_cast<double>(i) / (kLutSize - 1);
+      t[static_cast<std::size_t>(i)] = std::exp(-2 * r2) - std::exp(-2.0);
+    }
+    return t;
+  }();
+  return lut;
+}
+
+// Texel index i folded into [0, n) (as sample.cpp's fold, int form).
+inline int fold(int i, int n, WrapMode mode) {
+  if (i >= 0 && i < n) return i;
+  if (mode == WrapMode::kRepeat) {
+    i %= n;
+    return i < 0 ? i + n : i;
+  }
+  return i < 0 ? 0 : n - 1;
+}
+
+// The Gaussian-weighted mean over the ellipse of axes a, b (level-0 pixels,
+// scaled here to `level`'s), centred on uv, plus pbrt's one-texel widening.
+void ewa_level(const ImageView& level, double scale_x, double scale_y, UV uv, Vec2 a, Vec2 b,
+               WrapMode wrap_u, WrapMode wrap_v, double out[4]) {
+  const PixelPos c = pixel_from_uv(uv, level.width, level.height);
+  const double ax = a.x * scale_x, ay = a.y * scale_y, bx = b.x * scale_x, by = b.y * scale_y;
+  // The implicit ellipse A x^2 + B x y + C y^2 < 1 (pbrt-v4 MIPMap::EWA).
+  double A = ay * ay + by * by + 1;
+  double B = -2 * (ax * ay + bx * by);
+  double C = ax * ax + bx * bx + 1;
+  const double inv_f = 1 / (A * C - B * B * 0.25);
+  A *= inv_f;
+  B *= inv_f;
+  C *= inv_f;
+  const double det = -B * B + 4 * A * C;
+  const double inv_det = 1 / det;
+  const double half_x = 2 * inv_det * std::sqrt(det * C);
+  const double half_y = 2 * inv_det * std::sqrt(A * det);
+  const int x0 = static_cast<int>(std::ceil(c.x - half_x));
+  const int x1 = static_cast<int>(std::floor(c.x + half_x));
+  const int y0 = static_cast<int>(std::ceil(c.y - half_y));
+  const int y1 = static_cast<int>(std::floor(c.y + half_y));
+  const std::array<double, kLutSize>& lut = gaussian_lut();
+  double sum[4] = {0, 0, 0, 0};
+  double weights = 0;
+  for (int y = y0; y <= y1; ++y) {
+    const double dy = y - c.y;
+    const int row = fold(y, level.height, wrap_v);
+    for (int x = x0; x <= x1; ++x) {
+      const double dx = x - c.x;
+      const double r2 = A * dx * dx + B * dx * dy + C * dy * dy;
+      if (!(r2 < 1)) continue;
+      const double w =
+          lut[static_cast<std::size_t>(std::min(static_cast<int>(r2 * kLutSize), kLutSize - 1))];
+      const float* p = level.pixel(fold(x, level.width, wrap_u), row);
+      for (int k = 0; k < 4; ++k) sum[k] += w * p[k];
+      weights += w;
+    }
+  }
+  if (!(weights > 0)) {  // cannot happen (the unit disc always holds a texel centre)
+    const Rgba s = sample_bilinear(level, uv, wrap_u, wrap_v);
+    for (int k = 0; k < 4; ++k) out[k] = s[k];
+    return;
+  }
+  for (int k = 0; k < 4; ++k) out[k] = sum[k] / weights;
+}
+
+}  // namespace
+
+MipPyramid::MipPyramid(const ImageView& base) {
+  views_.push_back(base);
+  while (views_.back().width > 1 || views_.back().height > 1) {
+    const ImageView& src = views_.back();
+    const int w = std::max(1, src.width / 2), h = std::max(1, src.height / 2);
+    owned_.push_back(reduce(src, w, h));
+    views_.push_back(ImageView{w, h, owned_.back().data(), base.color_space});
+  }
+}
+
+std::size_t MipPyramid::owned_bytes() const {
+  std::size_t bytes = 0;
+  for (const std::vector<float>& level : owned_) bytes += level.size() * sizeof(float);
+  return bytes;
+}
+
+Rgba sample_ewa(const MipPyramid& mip, UV uv, UvFootprint footprint, WrapMode wrap_u,
+                WrapMode wrap_v, double max_anisotropy) {
+  const ImageView& base = mip.level(0);
+  const double cap = 2.0 * std::max(base.width, base.height);
+  // Level-0 pixels (the sign of y does not matter to an ellipse).
+  Vec2 a{footprint.a.x * base.width, footprint.a.y * base.height};
+  Vec2 b{footprint.b.x * base.width, footprint.b.y * base.height};
+  for (Vec2* axis : {&a, &b}) {
+    if (!std::isfinite(axis->x)) axis->x = cap;
+    if (!std::isfinite(axis->y)) axis->y = cap;
+  }
+  if (dot(a, a) < dot(b, b)) std::swap(a, b);
+  double major = std::sqrt(dot(a, a)), minor = std::sqrt(dot(b, b));
+  if (major <= 1) return sample_bilinear(base, uv, wrap_u, wrap_v);  // magnification
+  if (major > cap) {
+    a = a * (cap / major);
+    major = cap;
+  }
+  if (minor > cap) {
+    b = b * (cap / minor);
+    minor = cap;
+  }
+  if (minor * max_anisotropy < major) {
+    // Lengthen the minor axis (in its own direction, or across the major one
+    // when it has none).
+    const double target = major / max_anisotropy;
+    b = minor > 0 ? b * (target / minor) : Vec2{-a.y, a.x} * (target / major);
+    minor = target;
+  }
+  const double lod = std::max(0.0, std::log2(minor));
+  const int top = mip.levels() - 1;
+  const int ilod = static_cast<int>(std::floor(lod));
+  auto at = [&](int i, double out[4]) {
+    const ImageView& level = mip.level(i);
+    ewa_level(level, static_cast<double>(level.width) / base.width,
+              static_cast<double>(level.height) / base.height, uv, a, b, wrap_u, wrap_v, out);
+  };
+  double lo[4];
+  Rgba result;
+  if (ilod >= top) {
+    at(top, lo);
+    for (int k = 0; k < 4; ++k) result[k] = static_cast<float>(lo[k]);
+    return result;
+  }
+  double hi[4];
+  at(ilod, lo);
+  const double t = lod - ilod;
+  if (t > 0) {
+    at(ilod + 1, hi);
+  } else {
+    for (int k = 0; k < 4; ++k) hi[k] = lo[k];
+  }
+  for (int k = 0; k < 4; ++k) result[k] = static_cast<float>(lo[k] + t * (hi[k] - lo[k]));
+  return result;
+}
+
+}  // namespace texbake
