@@ -76,8 +76,9 @@ struct AtlasBakeOptions {
   // surface's colour. Costs a full candidate scan per sample and a ray per
   // further candidate; bake_atlas_texture sets it when the layout overlaps.
   bool resolve_overlaps = false;
-  // visibility, occluded (+ colour), outside (+ colour), linear, plane_wrap;
-  // filter and samples are not used by the atlas.
+  // visibility, occluded (+ colour), outside (+ colour), linear, plane_wrap,
+  // filter: kEwa filters each supersample by its footprint (below), anything
+  // else is the bilinear lookup; shading.samples is not used by the atlas.
   VertexBakeOptions shading;
 };
 
