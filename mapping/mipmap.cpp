@@ -137,6 +137,32 @@ void ewa_level(const ImageView& level, double scale_x, double scale_y, UV uv, Ve
   for (int k = 0; k < 4; ++k) out[k] = sum[k] / weights;
 }
 
+// The Gaussian-weighted mean of level `i`'s row means over v half-extent ev
+// (level-0 texels) around uv.v, plus the one-texel widening: the 1D EWA of
+// a footprint that covers whole rows.
+void rows_level(const MipPyramid& mip, int i, double ev, UV uv, WrapMode wrap_v, double out[4]) {
+  const ImageView& level = mip.level(i);
+  const double cy = (1.0 - uv.v) * level.height - 0.5;
+  const double e = ev * level.height / mip.level(0).height;
+  const double radius2 = e * e + 1;
+  const double radius = std::sqrt(radius2);
+  const int y0 = static_cast<int>(std::ceil(cy - radius));
+  const int y1 = static_cast<int>(std::floor(cy + radius));
+  const std::array<double, kLutSize>& lut = gaussian_lut();
+  double sum[4] = {0, 0, 0, 0};
+  double weights = 0;
+  for (int y = y0; y <= y1; ++y) {
+    const double r2 = (y - cy) * (y - cy) / radius2;
+    if (!(r2 < 1)) continue;
+    const double w =
+        lut[static_cast<std::size_t>(std::min(static_cast<int>(r2 * kLutSize), kLutSize - 1))];
+    const double* m = mip.row_mean(i, fold(y, level.height, wrap_v));
+    for (int k = 0; k < 4; ++k) sum[k] += w * m[k];
+    weights += w;
+  }
+  for (int k = 0; k < 4; ++k) out[k] = sum[k] / weights;  // the unit radius holds a row centre
+}
+
 }  // namespace
 
 MipPyramid::MipPyramid(const ImageView& base) {
@@ -147,11 +173,26 @@ MipPyramid::MipPyramid(const ImageView& base) {
     owned_.push_back(reduce(src, w, h));
     views_.push_back(ImageView{w, h, owned_.back().data(), base.color_space});
   }
+  row_means_.resize(views_.size());
+  for (std::size_t i = 0; i < views_.size(); ++i) {
+    const ImageView& level = views_[i];
+    std::vector<double>& means = row_means_[i];
+    means.assign(static_cast<std::size_t>(level.height) * 4, 0.0);
+    for (int y = 0; y < level.height; ++y) {
+      double* m = &means[static_cast<std::size_t>(y) * 4];
+      for (int x = 0; x < level.width; ++x) {
+        const float* p = level.pixel(x, y);
+        for (int k = 0; k < 4; ++k) m[k] += p[k];
+      }
+      for (int k = 0; k < 4; ++k) m[k] /= level.width;
+    }
+  }
 }
 
 std::size_t MipPyramid::owned_bytes() const {
   std::size_t bytes = 0;
   for (const std::vector<float>& level : owned_) bytes += level.size() * sizeof(float);
+  for (const std::vector<double>& means : row_means_) bytes += means.size() * sizeof(double);
   return bytes;
 }
 
@@ -169,6 +210,31 @@ Rgba sample_ewa(const MipPyramid& mip, UV uv, UvFootprint footprint, WrapMode wr
   if (dot(a, a) < dot(b, b)) std::swap(a, b);
   double major = std::sqrt(dot(a, a)), minor = std::sqrt(dot(b, b));
   if (major <= 1) return sample_bilinear(base, uv, wrap_u, wrap_v);  // magnification
+  // Periodic u and a footprint as wide as the period (a pole): whole rows.
+  double rows_share = 0;
+  if (wrap_u == WrapMode::kRepeat) {
+    const double width = 2 * std::sqrt(a.x * a.x + b.x * b.x);  // the ellipse's u extent
+    rows_share = std::clamp(2 * width / base.width - 1, 0.0, 1.0);
+  }
+  double rows[4] = {0, 0, 0, 0};
+  if (rows_share > 0) {
+    const double ev = std::min(cap, std::sqrt(a.y * a.y + b.y * b.y));  // v half-extent
+    const double lod = std::max(0.0, std::log2(ev));
+    const int top = mip.levels() - 1;
+    const int ilod = std::min(top, static_cast<int>(std::floor(lod)));
+    rows_level(mip, ilod, ev, uv, wrap_v, rows);
+    const double t = ilod < top ? lod - ilod : 0.0;
+    if (t > 0) {
+      double hi[4];
+      rows_level(mip, ilod + 1, ev, uv, wrap_v, hi);
+      for (int k = 0; k < 4; ++k) rows[k] += t * (hi[k] - rows[k]);
+    }
+    if (rows_share == 1) {
+      Rgba result;
+      for (int k = 0; k < 4; ++k) result[k] = static_cast<float>(rows[k]);
+      return result;
+    }
+  }
   if (major > cap) {
     a = a * (cap / major);
     major = cap;
@@ -192,22 +258,21 @@ Rgba sample_ewa(const MipPyramid& mip, UV uv, UvFootprint footprint, WrapMode wr
     ewa_level(level, static_cast<double>(level.width) / base.width,
               static_cast<double>(level.height) / base.height, uv, a, b, wrap_u, wrap_v, out);
   };
-  double lo[4];
-  Rgba result;
+  double lo[4], hi[4];
   if (ilod >= top) {
     at(top, lo);
-    for (int k = 0; k < 4; ++k) result[k] = static_cast<float>(lo[k]);
-    return result;
-  }
-  double hi[4];
-  at(ilod, lo);
-  const double t = lod - ilod;
-  if (t > 0) {
-    at(ilod + 1, hi);
   } else {
-    for (int k = 0; k < 4; ++k) hi[k] = lo[k];
+    at(ilod, lo);
+    const double t = lod - ilod;
+    if (t > 0) {
+      at(ilod + 1, hi);
+      for (int k = 0; k < 4; ++k) lo[k] += t * (hi[k] - lo[k]);
+    }
   }
-  for (int k = 0; k < 4; ++k) result[k] = static_cast<float>(lo[k] + t * (hi[k] - lo[k]));
+  Rgba result;
+  for (int k = 0; k < 4; ++k) {
+    result[k] = static_cast<float>(lo[k] + rows_share * (rows[k] - lo[k]));
+  }
   return result;
 }
 

@@ -36,6 +36,16 @@
 //  - Texels outside the level follow wrap_u / wrap_v as in sample_bilinear:
 //    kRepeat is periodic (a footprint straddling the u seam averages both
 //    sides), kClamp the edge texel.
+//  - Whole rows (periodic u only): a footprint whose ellipse is as wide in u
+//    as the period (near a sphere's pole, a cone's apex, a disk's centre)
+//    covers every column, and the eccentricity clamp would blur it in v by
+//    an eighth of its width (a quarter of a 2:1 map's height at the pole).
+//    Such a lookup is instead the 1D Gaussian average (the same weights,
+//    the same one-texel widening) of the level's row means over the
+//    ellipse's v extent, at the level where that extent is one texel:
+//    neither smeared in v nor pinched in u. Between a half and a whole
+//    period of width the two results are blended linearly, so the filter
+//    changes continuously towards the pole.
 // A constant image gives that constant exactly (the weights are normalised
 // in double, and the result rounds back to the same float). No allocation,
 // no virtual call; a pure function of its arguments.
@@ -63,12 +73,17 @@ class MipPyramid {
   int levels() const { return static_cast<int>(views_.size()); }
   // Level i's pixels (same color_space as the base). 0 <= i < levels().
   const ImageView& level(int i) const { return views_[static_cast<std::size_t>(i)]; }
-  // The bytes the levels above 0 hold (level 0 is the caller's).
+  // The mean of row y of level i (4 channels, double).
+  const double* row_mean(int i, int y) const {
+    return &row_means_[static_cast<std::size_t>(i)][static_cast<std::size_t>(y) * 4];
+  }
+  // The bytes the levels above 0 and the row means hold (level 0 is the caller's).
   std::size_t owned_bytes() const;
 
  private:
-  std::vector<std::vector<float>> owned_;  // levels 1 ..
-  std::vector<ImageView> views_;           // levels 0 ..
+  std::vector<std::vector<float>> owned_;       // levels 1 ..
+  std::vector<ImageView> views_;                // levels 0 ..
+  std::vector<std::vector<double>> row_means_;  // levels 0 .., height * 4 each
 };
 
 // A lookup's footprint: two vectors in (u, v) units (each (du, dv)).

@@ -48,7 +48,8 @@ TEST(MipPyramid, EvenLevelsByHand) {
   EXPECT_EQ(mip.level(2).pixel(0, 0)[0], 65);
   EXPECT_EQ(mip.level(2).pixel(0, 0)[2], 0.25f);
   EXPECT_EQ(mip.level(0).data, img.pixels.data());  // level 0 is the image, not a copy
-  EXPECT_EQ(mip.owned_bytes(), (2 + 1) * 4 * sizeof(float));
+  // Levels 1 and 2, and the row means of all three levels (2 + 1 + 1 rows).
+  EXPECT_EQ(mip.owned_bytes(), (2 + 1) * 4 * sizeof(float) + (2 + 1 + 1) * 4 * sizeof(double));
 }
 
 TEST(MipPyramid, OddLevelsAreExactBoxes) {
@@ -162,6 +163,39 @@ TEST(Ewa, FootprintStraddlingTheSeamAveragesBothSides) {
   EXPECT_LT(off, 0.45);
   // The same edge inside the image (u = 0.5) in either mode.
   EXPECT_NEAR(sample_ewa(mip, {0.5, 0.5}, f, WrapMode::kClamp, WrapMode::kClamp)[0], 0.5, 1e-6);
+}
+
+TEST(Ewa, PoleFootprintSpansEveryUButOnlyTheTopRows) {
+  // 256 x 128: red = row / 127 (0 in the top row, v = 1), green alternates
+  // by column (every row's mean is 0.5).
+  TestImage img{256, 128, {}};
+  for (int y = 0; y < 128; ++y) {
+    for (int x = 0; x < 256; ++x) {
+      img.pixels.insert(img.pixels.end(), {y / 127.0f, static_cast<float>(x % 2), 0.25f, 1});
+    }
+  }
+  const MipPyramid mip(img.view());
+  // The footprint at a pole (bake/shade/footprint.h): one whole period in
+  // u, 2 texels in v. Every column counts (green exactly 0.5) and only the
+  // top few rows (red = row / 127 stays below 3 rows' worth); the eccentricity
+  // clamp alone would blur v by 256 / 8 = 32 texels.
+  const UvFootprint pole{{1, 0}, {0, 2.0 / 128}};
+  const Rgba r = sample_ewa(mip, {0, 1}, pole, WrapMode::kRepeat, WrapMode::kClamp);
+  EXPECT_NEAR(r[1], 0.5, 1e-7);
+  EXPECT_LT(r[0], 3 / 127.0);
+  EXPECT_EQ(sample_ewa(mip, {0.37, 1}, pole, WrapMode::kRepeat, WrapMode::kClamp), r);  // any u
+  // Growing the u extent from a third of the period to past a whole one
+  // changes the result continuously (the blend between a half and a whole
+  // period).
+  Rgba previous =
+      sample_ewa(mip, {0.2, 0.98}, {{0.3, 0}, {0, 2.0 / 128}}, WrapMode::kRepeat, WrapMode::kClamp);
+  for (double k = 0.305; k <= 1.2; k += 0.005) {
+    const Rgba now =
+        sample_ewa(mip, {0.2, 0.98}, {{k, 0}, {0, 2.0 / 128}}, WrapMode::kRepeat, WrapMode::kClamp);
+    EXPECT_LT(std::abs(now[0] - previous[0]), 0.01) << k;
+    previous = now;
+  }
+  EXPECT_LT(previous[0], 4 / 127.0);
 }
 
 TEST(Ewa, UnboundedFootprintIsTheImageMean) {
