@@ -35,32 +35,30 @@ std::vector<BoxTap> box_taps(int in, int out) {
   return taps;
 }
 
-// Level `src` reduced to w x h (separable: rows, then columns), in double.
+// Level `src` reduced to w x h (separable: each output row sums its input
+// rows' horizontal reductions, in double; one row of scratch).
 std::vector<float> reduce(const ImageView& src, int w, int h) {
   const std::vector<BoxTap> tx = box_taps(src.width, w), ty = box_taps(src.height, h);
-  std::vector<double> rows(static_cast<std::size_t>(w) * src.height * 4);
-  for (int y = 0; y < src.height; ++y) {
-    for (int x = 0; x < w; ++x) {
-      const BoxTap& t = tx[static_cast<std::size_t>(x)];
-      double* o = &rows[(static_cast<std::size_t>(y) * w + x) * 4];
-      for (int k = 0; k < t.count; ++k) {
-        const float* p = src.pixel(t.first + k, y);
-        for (int c = 0; c < 4; ++c) o[c] += t.weight[k] * p[c];
-      }
-    }
-  }
   std::vector<float> out(static_cast<std::size_t>(w) * h * 4);
+  std::vector<double> acc(static_cast<std::size_t>(w) * 4);
   for (int y = 0; y < h; ++y) {
+    std::fill(acc.begin(), acc.end(), 0.0);
     const BoxTap& t = ty[static_cast<std::size_t>(y)];
-    for (int x = 0; x < w; ++x) {
-      double acc[4] = {0, 0, 0, 0};
-      for (int k = 0; k < t.count; ++k) {
-        const double* p = &rows[(static_cast<std::size_t>(t.first + k) * w + x) * 4];
-        for (int c = 0; c < 4; ++c) acc[c] += t.weight[k] * p[c];
+    for (int ky = 0; ky < t.count; ++ky) {
+      const int row = t.first + ky;
+      for (int x = 0; x < w; ++x) {
+        const BoxTap& u = tx[static_cast<std::size_t>(x)];
+        double sum[4] = {0, 0, 0, 0};
+        for (int kx = 0; kx < u.count; ++kx) {
+          const float* p = src.pixel(u.first + kx, row);
+          for (int c = 0; c < 4; ++c) sum[c] += u.weight[kx] * p[c];
+        }
+        double* a = &acc[static_cast<std::size_t>(x) * 4];
+        for (int c = 0; c < 4; ++c) a[c] += t.weight[ky] * sum[c];
       }
-      float* o = &out[(static_cast<std::size_t>(y) * w + x) * 4];
-      for (int c = 0; c < 4; ++c) o[c] = static_cast<float>(acc[c]);
     }
+    float* o = &out[static_cast<std::size_t>(y) * w * 4];
+    for (std::size_t i = 0; i < acc.size(); ++i) o[i] = static_cast<float>(acc[i]);
   }
   return out;
 }
