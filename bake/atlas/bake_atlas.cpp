@@ -41,8 +41,9 @@ struct SampleContext {
   Rgba occluded_color{};
   float* atlas = nullptr;    // size * size * 4
   uint8_t* baked = nullptr;  // size * size
-  // --filter ewa: a supersample's cell in atlas UV units (1 / (size
-  // sqrt(samples))); 0: the bilinear lookup, no footprints.
+  // --filter ewa: the footprint vectors' length in atlas UV units, the
+  // supersample's cell side 1 / (size sqrt(samples)) over sqrt(2) (the
+  // ellipse through the cell's corners); 0: the bilinear lookup.
   double cell = 0;
 };
 
@@ -353,7 +354,12 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   if (sh.filter == VertexFilter::kEwa) {
     mip.emplace(working.view);
     ctx.shade.mip = &*mip;
-    ctx.cell = 1.0 / (options.size * std::sqrt(static_cast<double>(options.samples)));
+    // The ellipse with conjugate semi-axes ts / sqrt(2), tt / sqrt(2) passes
+    // through the cell's corners (ts +- tt) / 2: the smallest such ellipse
+    // that covers the cell. (With the whole cell side as semi-axes, pbrt's
+    // convention for a pixel's differentials, the zone-plate benchmark of
+    // bench/filter_quality_bench.cpp loses 2.2 dB against the box reference.)
+    ctx.cell = 1.0 / (options.size * std::sqrt(2.0 * options.samples));
   }
   ctx.fill_colors = fill_first ? &fill_colors : nullptr;
   ctx.occluded_color = sh.occluded_color;

@@ -48,7 +48,9 @@ TEST(EwaBake, AtlasFootprintIsOneTexelOfTheLayout) {
   // Two triangles covering [0, 1]^2 with UV = position: an atlas texel of a
   // 16 x 16 atlas is 1/16 x 1/16 of the image under the identity plane, so
   // with one sample per texel each texel is sample_ewa at its centre with
-  // the footprint (1/16, 0), (0, 1/16).
+  // the ellipse through the texel's corners: semi-axes (1/16, 0) / sqrt(2),
+  // (0, 1/16) / sqrt(2).
+  const double h = 1 / (16 * std::sqrt(2.0));
   const MeshData mesh = test::make_flat_uv_soup({{0, 0}, {1, 0}, {1, 1}, {0, 0}, {1, 1}, {0, 1}});
   const Image img = checker_image();
   AtlasBakeOptions o;
@@ -65,8 +67,7 @@ TEST(EwaBake, AtlasFootprintIsOneTexelOfTheLayout) {
       const std::size_t t = static_cast<std::size_t>(y) * 16 + x;
       ASSERT_TRUE(r.baked[t]);
       const UV uv{(x + 0.5) / 16, 1 - (y + 0.5) / 16};
-      const Rgba e =
-          sample_ewa(mip, uv, {{1.0 / 16, 0}, {0, 1.0 / 16}}, WrapMode::kClamp, WrapMode::kClamp);
+      const Rgba e = sample_ewa(mip, uv, {{h, 0}, {0, h}}, WrapMode::kClamp, WrapMode::kClamp);
       for (int k = 0; k < 4; ++k) {
         EXPECT_NEAR(r.atlas.pixels[t * 4 + k], e[k], 1e-5) << x << " " << y << " " << k;
       }
@@ -88,9 +89,10 @@ TEST(EwaBake, AtlasFootprintIsOneTexelOfTheLayout) {
 }
 
 TEST(EwaBake, AtlasSupersamplesShareTheTexel) {
-  // Four samples per texel: each has a cell of half a texel a side, so the
-  // texel is the mean of four lookups with footprint 1/32 at the cells'
-  // centres (sample_offset(s, 4) = +-0.25 texel).
+  // Four samples per texel: each has a cell of half a texel a side (1/16 of
+  // the image), so the texel is the mean of four lookups with semi-axes
+  // 1/16 / sqrt(2) at the cells' centres (sample_offset(s, 4) = +-0.25 texel).
+  const double h = 1 / (16 * std::sqrt(2.0));
   const MeshData mesh = test::make_flat_uv_soup({{0, 0}, {1, 0}, {1, 1}, {0, 0}, {1, 1}, {0, 1}});
   const Image img = checker_image();
   AtlasBakeOptions o;
@@ -107,9 +109,7 @@ TEST(EwaBake, AtlasSupersamplesShareTheTexel) {
       for (double dy : {-0.25, 0.25}) {
         for (double dx : {-0.25, 0.25}) {
           const UV uv{(x + 0.5 + dx) / 8, 1 - (y + 0.5 + dy) / 8};
-          mean += sample_ewa(mip, uv, {{1.0 / 16, 0}, {0, 1.0 / 16}}, WrapMode::kClamp,
-                             WrapMode::kClamp)[0] /
-                  4;
+          mean += sample_ewa(mip, uv, {{h, 0}, {0, h}}, WrapMode::kClamp, WrapMode::kClamp)[0] / 4;
         }
       }
       EXPECT_NEAR(r.atlas.pixels[(static_cast<std::size_t>(y) * 8 + x) * 4], mean, 1e-5)
