@@ -25,6 +25,7 @@
 #include <utility>
 
 #include "bake/atlas/bake_atlas.h"
+#include "bake/shade/shade.h"
 #include "bake/uv/uv_proxy.h"
 #include "bake/vertex/bake_vertex.h"
 #include "bench/bench_meshes.h"
@@ -185,15 +186,21 @@ BENCHMARK(BM_FilterQualityVertex)
 namespace texbake {
 namespace {
 
-// The pyramid's construction alone (levels and row means), W x W/2.
+// The pyramid's construction alone (levels and row means), W x W/2,
+// serial (threads 0) or on the bake's threads (1, as the bakes build it).
 void BM_MipPyramidBuild(benchmark::State& state) {
   const Image& img = zone_plate(static_cast<int>(state.range(0)));
+  const RowRunner rows = state.range(1) ? RowRunner(pyramid_rows) : RowRunner();
   for (auto _ : state) {
-    const MipPyramid mip(img.view());
+    const MipPyramid mip(img.view(), rows);
     benchmark::DoNotOptimize(mip.level(1).data);
   }
 }
-BENCHMARK(BM_MipPyramidBuild)->Arg(4096)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_MipPyramidBuild)
+    ->ArgNames({"image", "threads"})
+    ->ArgsProduct({{4096}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace texbake

@@ -36,30 +36,33 @@ std::vector<BoxTap> box_taps(int in, int out) {
 }
 
 // Level `src` reduced to w x h (separable: each output row sums its input
-// rows' horizontal reductions, in double; one row of scratch).
-std::vector<float> reduce(const ImageView& src, int w, int h) {
+// rows' horizontal reductions, in double; one row of scratch per chunk).
+// Rows are independent: the result does not depend on how `for_rows` splits them.
+std::vector<float> reduce(const ImageView& src, int w, int h, const RowRunner& for_rows) {
   const std::vector<BoxTap> tx = box_taps(src.width, w), ty = box_taps(src.height, h);
   std::vector<float> out(static_cast<std::size_t>(w) * h * 4);
-  std::vector<double> acc(static_cast<std::size_t>(w) * 4);
-  for (int y = 0; y < h; ++y) {
-    std::fill(acc.begin(), acc.end(), 0.0);
-    const BoxTap& t = ty[static_cast<std::size_t>(y)];
-    for (int ky = 0; ky < t.count; ++ky) {
-      const int row = t.first + ky;
-      for (int x = 0; x < w; ++x) {
-        const BoxTap& u = tx[static_cast<std::size_t>(x)];
-        double sum[4] = {0, 0, 0, 0};
-        for (int kx = 0; kx < u.count; ++kx) {
-          const float* p = src.pixel(u.first + kx, row);
-          for (int c = 0; c < 4; ++c) sum[c] += u.weight[kx] * p[c];
+  for_rows(static_cast<std::size_t>(h), [&](std::size_t begin, std::size_t end) {
+    std::vector<double> acc(static_cast<std::size_t>(w) * 4);
+    for (std::size_t y = begin; y < end; ++y) {
+      std::fill(acc.begin(), acc.end(), 0.0);
+      const BoxTap& t = ty[y];
+      for (int ky = 0; ky < t.count; ++ky) {
+        const int row = t.first + ky;
+        for (int x = 0; x < w; ++x) {
+          const BoxTap& u = tx[static_cast<std::size_t>(x)];
+          double sum[4] = {0, 0, 0, 0};
+          for (int kx = 0; kx < u.count; ++kx) {
+            const float* p = src.pixel(u.first + kx, row);
+            for (int c = 0; c < 4; ++c) sum[c] += u.weight[kx] * p[c];
+          }
+          double* a = &acc[static_cast<std::size_t>(x) * 4];
+          for (int c = 0; c < 4; ++c) a[c] += t.weight[ky] * sum[c];
         }
-        double* a = &acc[static_cast<std::size_t>(x) * 4];
-        for (int c = 0; c < 4; ++c) a[c] += t.weight[ky] * sum[c];
       }
+      float* o = &out[y * static_cast<std::size_t>(w) * 4];
+      for (std::size_t i = 0; i < acc.size(); ++i) o[i] = static_cast<float>(acc[i]);
     }
-    float* o = &out[static_cast<std::size_t>(y) * w * 4];
-    for (std::size_t i = 0; i < acc.size(); ++i) o[i] = static_cast<float>(acc[i]);
-  }
+  });
   return out;
 }
 
@@ -163,27 +166,35 @@ void rows_level(const MipPyramid& mip, int i, double ev, UV uv, WrapMode wrap_v,
 
 }  // namespace
 
-MipPyramid::MipPyramid(const ImageView& base) {
+static void serial_rows(std::size_t count,
+                        const std::function<void(std::size_t, std::size_t)>& body) {
+  body(0, count);
+}
+
+MipPyramid::MipPyramid(const ImageView& base, const RowRunner& for_rows) {
+  const RowRunner& run = for_rows ? for_rows : RowRunner(serial_rows);
   views_.push_back(base);
   while (views_.back().width > 1 || views_.back().height > 1) {
     const ImageView& src = views_.back();
     const int w = std::max(1, src.width / 2), h = std::max(1, src.height / 2);
-    owned_.push_back(reduce(src, w, h));
+    owned_.push_back(reduce(src, w, h, run));
     views_.push_back(ImageView{w, h, owned_.back().data(), base.color_space});
   }
   row_means_.resize(views_.size());
   for (std::size_t i = 0; i < views_.size(); ++i) {
-    const ImageView& level = views_[i];
+    const ImageView level = views_[i];
     std::vector<double>& means = row_means_[i];
     means.assign(static_cast<std::size_t>(level.height) * 4, 0.0);
-    for (int y = 0; y < level.height; ++y) {
-      double* m = &means[static_cast<std::size_t>(y) * 4];
-      for (int x = 0; x < level.width; ++x) {
-        const float* p = level.pixel(x, y);
-        for (int k = 0; k < 4; ++k) m[k] += p[k];
+    run(static_cast<std::size_t>(level.height), [&](std::size_t begin, std::size_t end) {
+      for (std::size_t y = begin; y < end; ++y) {
+        double* m = &means[y * 4];
+        for (int x = 0; x < level.width; ++x) {
+          const float* p = level.pixel(x, static_cast<int>(y));
+          for (int k = 0; k < 4; ++k) m[k] += p[k];
+        }
+        for (int k = 0; k < 4; ++k) m[k] /= level.width;
       }
-      for (int k = 0; k < 4; ++k) m[k] /= level.width;
-    }
+    });
   }
 }
 

@@ -52,6 +52,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 #include "mapping/image_view.h"
@@ -60,11 +61,18 @@
 
 namespace texbake {
 
+// Runs body(begin, end) over [0, count) in chunks, possibly in parallel
+// (the bake passes its thread pool; mapping/ itself stays standard C++).
+using RowRunner = std::function<void(std::size_t count,
+                                     const std::function<void(std::size_t, std::size_t)>& body)>;
+
 class MipPyramid {
  public:
   MipPyramid() = default;
-  // Precondition: base has at least 1 x 1 pixel and stays alive (level 0 views it).
-  explicit MipPyramid(const ImageView& base);
+  // Precondition: base has at least 1 x 1 pixel and stays alive (level 0
+  // views it). for_rows (empty: serial) runs the rows of each level; every
+  // row is computed alone, so the pyramid does not depend on how it splits them.
+  explicit MipPyramid(const ImageView& base, const RowRunner& for_rows = {});
   MipPyramid(MipPyramid&&) = default;
   MipPyramid& operator=(MipPyramid&&) = default;
   MipPyramid(const MipPyramid&) = delete;

@@ -352,7 +352,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   // cell (the texel split into samples cells of equal area).
   std::optional<MipPyramid> mip;
   if (sh.filter == VertexFilter::kEwa) {
-    mip.emplace(working.view);
+    mip.emplace(working.view, pyramid_rows);
     ctx.shade.mip = &*mip;
     // The ellipse with conjugate semi-axes ts / sqrt(2), tt / sqrt(2) passes
     // through the cell's corners (ts +- tt) / 2: the smallest such ellipse

@@ -31,6 +31,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "bake/shade/options.h"
@@ -136,6 +137,10 @@ struct WorkingImage {
 };
 // Precondition: image has width * height pixels of data (may be 0 x 0).
 WorkingImage working_image(const ImageView& image, bool linear);
+
+// The MIP pyramid's row runner on the bake's threads (parallel_for_chunks):
+// MipPyramid(view, pyramid_rows) for --filter ewa.
+void pyramid_rows(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
 
 // The rule of one job: sampling `image` (already in the working encoding,
 // see working_image: linear when its color_space is kLinear) through `proxy`

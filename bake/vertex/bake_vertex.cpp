@@ -279,7 +279,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   // bilinear lookup's), built once per job.
   std::optional<MipPyramid> mip;
   if (options.filter == VertexFilter::kEwa) {
-    mip.emplace(working.view);
+    mip.emplace(working.view, pyramid_rows);
     ctx.shade.mip = &*mip;
   }
   Adjacency adjacency;
