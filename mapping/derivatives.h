@@ -31,7 +31,11 @@
 //  - A non-finite P: both flags false, gradients zero.
 //
 // Standard C++ only; no allocation; one overload per proxy type, so hot
-// loops that std::visit once per chunk call the concrete one directly.
+// loops that std::visit once per chunk call the concrete one directly. A new
+// alternative of Proxy (e.g. a camera projector) needs its own overload
+// (in its own file if need be): the dispatch below and the bakes' visits
+// then fail to compile without one, on purpose (a made-up "undefined"
+// Jacobian would silently blur every lookup over a whole period).
 #pragma once
 
 #include "mapping/proxy.h"
