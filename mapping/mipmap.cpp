@@ -228,6 +228,18 @@ Rgba sample_ewa(const MipPyramid& mip, UV uv, UvFootprint footprint, WrapMode wr
                 WrapMode wrap_v, double max_anisotropy) {
   const ImageView& base = mip.level(0);
   const double cap = 2.0 * std::max(base.width, base.height);
+  // A NaN coordinate is a caller bug: sample_bilinear defines it. Far-off
+  // coordinates (a plane's points far outside) come near: a periodic axis
+  // shifted by whole periods (the lattice does not move), a clamped one to
+  // just past the widest footprint's reach, where every texel is the edge's.
+  if (!std::isfinite(uv.u) || !std::isfinite(uv.v)) {
+    return sample_bilinear(base, uv, wrap_u, wrap_v);
+  }
+  const double reach = 1 + (cap + 2) / std::min(base.width, base.height);
+  auto settle = [reach](double t, WrapMode mode) {
+    return mode == WrapMode::kRepeat ? t - std::floor(t) : std::clamp(t, -reach, 1 + reach);
+  };
+  uv = {settle(uv.u, wrap_u), settle(uv.v, wrap_v)};
   // Level-0 pixels (the sign of y does not matter to an ellipse).
   Vec2 a{footprint.a.x * base.width, footprint.a.y * base.height};
   Vec2 b{footprint.b.x * base.width, footprint.b.y * base.height};

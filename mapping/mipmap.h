@@ -46,6 +46,9 @@
 //    neither smeared in v nor pinched in u. Between a half and a whole
 //    period of width the two results are blended linearly, so the filter
 //    changes continuously towards the pole.
+// A coordinate far outside a clamped axis counts as just past the widest
+// footprint's reach (every texel the edge's); a periodic one is taken
+// modulo 1 (a whole-period shift, so the same result).
 // A constant image gives that constant exactly (the weights are normalised
 // in double, and the result rounds back to the same float). No allocation,
 // no virtual call; a pure function of its arguments.

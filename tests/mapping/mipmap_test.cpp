@@ -220,6 +220,25 @@ TEST(Ewa, PoleFootprintSpansEveryUButOnlyTheTopRows) {
   EXPECT_LT(previous[0], 4 / 127.0);
 }
 
+TEST(Ewa, FarAndNonFiniteCoordinatesStayDefined) {
+  // Rows vary, columns do not: past the right edge (clamped) only v matters.
+  const TestImage img = make_image(64, 32, [](int, int y) { return y / 31.0f; });
+  const MipPyramid mip(img.view());
+  const UvFootprint f{{3.0 / 64, 0}, {0, 3.0 / 32}};
+  const Rgba near = sample_ewa(mip, {1.5, 0.4}, f, WrapMode::kClamp, WrapMode::kClamp);
+  EXPECT_EQ(sample_ewa(mip, {1e30, 0.4}, f, WrapMode::kClamp, WrapMode::kClamp), near);
+  EXPECT_EQ(sample_ewa(mip, {-1e300, 0.4}, f, WrapMode::kClamp, WrapMode::kClamp), near);
+  // Periodic: whole periods away is the same lookup.
+  const TestImage ramp = make_image(64, 32, [](int x, int y) { return 0.01f * x + 0.02f * y; });
+  const MipPyramid mr(ramp.view());
+  EXPECT_EQ(sample_ewa(mr, {5.25, 0.4}, f, WrapMode::kRepeat, WrapMode::kClamp),
+            sample_ewa(mr, {0.25, 0.4}, f, WrapMode::kRepeat, WrapMode::kClamp));
+  EXPECT_EQ(sample_ewa(mr, {-3.75, 0.4}, f, WrapMode::kRepeat, WrapMode::kClamp),
+            sample_ewa(mr, {0.25, 0.4}, f, WrapMode::kRepeat, WrapMode::kClamp));
+  const Rgba nan = sample_ewa(mr, {std::nan(""), 0.4}, f, WrapMode::kRepeat, WrapMode::kClamp);
+  for (float c : nan) EXPECT_TRUE(std::isfinite(c));
+}
+
 TEST(Ewa, UnboundedFootprintIsTheImageMean) {
   // A non-finite footprint (a pole's u extent) counts as the widest: the top
   // level, the image's mean (0.25 here: a quarter of the texels are 1).
