@@ -146,6 +146,39 @@ TEST(EwaBake, VertexFootprintIsTheVertexShare) {
   }
 }
 
+TEST(EwaBake, ThePoleNeitherSmearsNorPinches) {
+  // A UV sphere (32 rings: the first ring 5.6 degrees from the pole, 8 image
+  // rows of a 512 x 256 map) on the sphere proxy. Red: 1 in the top 8 rows
+  // only; green = 0.5 + 0.5 cos(2 pi u), whose mean over u is 0.5.
+  const MeshData mesh = test::uv_sphere({0, 0, 0}, 1, 32, 64);
+  const Proxy sphere = make_proxy(SphereParams{{0, 0, 0}, 1, {0, 0, 1}, Vec3{1, 0, 0}}).value();
+  Image img;
+  img.width = 512;
+  img.height = 256;
+  for (int y = 0; y < 256; ++y) {
+    for (int x = 0; x < 512; ++x) {
+      const double u = (x + 0.5) / 512;
+      img.pixels.insert(img.pixels.end(),
+                        {y < 8 ? 1.0f : 0.0f,
+                         static_cast<float>(0.5 + 0.5 * std::cos(2 * 3.14159265358979 * u)), 0, 1});
+    }
+  }
+  VertexBakeOptions o;
+  o.visibility = Visibility::kAll;
+  o.filter = VertexFilter::kEwa;
+  const Rgba ewa = bake_vertex(mesh, img.view(), sphere, o).value().colors[0];  // the north pole
+  o.filter = VertexFilter::kBilinear;
+  const Rgba bilinear = bake_vertex(mesh, img.view(), sphere, o).value().colors[0];
+  // Not smeared: the pole's footprint reaches about 4 rows down (half the
+  // first ring), so red stays near 1 (the eccentricity clamp alone would
+  // smear it over the top quarter of the map: red 0.125 measured).
+  EXPECT_GT(ewa[0], 0.9) << ewa[0] << " " << ewa[1];
+  // Not pinched: every u counts at the pole (green 0.5), where one bilinear
+  // tap reads the u = 0 column (green ~ 1).
+  EXPECT_NEAR(ewa[1], 0.5, 0.01);
+  EXPECT_GT(bilinear[1], 0.99);
+}
+
 TEST(EwaBake, ConstantImageIsThatConstantOnTheBunny) {
   const test::BunnyEarth* scene = test::bunny_earth();
   ASSERT_NE(scene, nullptr);
