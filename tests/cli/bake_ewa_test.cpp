@@ -136,6 +136,33 @@ TEST_F(BakeEwaCli, FineCheckerboardOnACoarseAtlasIsItsMeanWhereBilinearAliases) 
   EXPECT_EQ(j["inputs"]["options"]["filter"], "ewa");
 }
 
+TEST_F(BakeEwaCli, ResultsDoNotDependOnTheThreadCount) {
+  std::vector<unsigned char> rgb;
+  for (int y = 0; y < 256; ++y) {
+    for (int x = 0; x < 512; ++x) {
+      const unsigned char c = ((x / 3 + y / 3) % 2) ? 230 : 20;
+      rgb.insert(rgb.end(), {c, static_cast<unsigned char>(x / 2), static_cast<unsigned char>(y)});
+    }
+  }
+  testing_cli::write_ppm(dir_ / "t.ppm", 512, 256, rgb);
+  for (const std::string target : {"v.ply", "a.obj"}) {
+    std::string files[2];
+    for (int threads : {1, 2}) {
+      const fs::path out = dir_ / (std::to_string(threads) + target);
+      const std::string atlas = target == "a.obj" ? " --size 128 --uv proxy" : "";
+      const testing_cli::RunResult r =
+          run_texbake(bunny_sphere(dir_ / "t.ppm") + " --filter ewa" + atlas + " --threads " +
+                      std::to_string(threads) + " -o " + q(out));
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+      fs::path written = out;
+      if (target == "a.obj") written.replace_extension(".png");
+      files[threads - 1] = testing_cli::slurp(written);
+    }
+    EXPECT_FALSE(files[0].empty());
+    EXPECT_EQ(files[0], files[1]) << target;
+  }
+}
+
 TEST_F(BakeEwaCli, AreaFilterIsTheVertexTargetsOnly) {
   std::vector<unsigned char> rgb(8 * 4 * 3, 128);
   testing_cli::write_ppm(dir_ / "g.ppm", 8, 4, rgb);
