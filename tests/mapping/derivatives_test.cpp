@@ -162,6 +162,44 @@ TEST(Derivatives, PlaneMatchesFiniteDifferences) {
   }
 }
 
+// A second method: the Jacobian of the inverse times the forward map's
+// tangents dP/du, dP/dv (central differences of forward_map) is the identity.
+template <class P>
+void expect_inverts_forward_tangents(const P& proxy, UV uv, double h) {
+  const Vec3 p = proxy.forward_map(uv);
+  const Vec3 pu =
+      (proxy.forward_map({uv.u + h, uv.v}) - proxy.forward_map({uv.u - h, uv.v})) / (2 * h);
+  const Vec3 pv =
+      (proxy.forward_map({uv.u, uv.v + h}) - proxy.forward_map({uv.u, uv.v - h})) / (2 * h);
+  const UvJacobian j = inverse_map_jacobian(proxy, p);
+  ASSERT_TRUE(j.u_defined && j.v_defined);
+  EXPECT_NEAR(dot(j.du, pu), 1, 1e-6) << uv.u << " " << uv.v;
+  EXPECT_NEAR(dot(j.du, pv), 0, 1e-6) << uv.u << " " << uv.v;
+  EXPECT_NEAR(dot(j.dv, pu), 0, 1e-6) << uv.u << " " << uv.v;
+  EXPECT_NEAR(dot(j.dv, pv), 1, 1e-6) << uv.u << " " << uv.v;
+}
+
+TEST(Derivatives, InvertTheForwardMapsTangents) {
+  std::mt19937_64 rng(22);
+  std::uniform_real_distribution<double> uni(0, 1);
+  const Sphere s = make<Sphere>(SphereParams{{0.3, -1, 2}, 1.7, {1, 2, 3}, Vec3{1, 0, 0}});
+  const Cylinder c = make<Cylinder>(CylinderParams{{1, 0, 0}, {0, 1, 1}, Vec3{1, 0, 0}, 0.8, 2.5});
+  const Cone k = make<Cone>(ConeParams{{0, 0, 1}, {0, 0, 1}, Vec3{0, 1, 0}, 2, 1.5});
+  const Disk d = make<Disk>(DiskParams{{0, 1, 0}, {1, 1, 0}, Vec3{0, 0, 1}, 1.2});
+  const Quad q = make<Quad>(
+      QuadParams{{Vec3{0, 0, 0}, Vec3{2, 0.2, 0}, Vec3{2.3, 1.8, 0}, Vec3{-0.2, 1.5, 0}}});
+  const Plane pl = make<Plane>(PlaneParams{{0, 0, 0}, {2, 1, 0}, {-0.5, 1, 0.3}});
+  for (int trial = 0; trial < 50; ++trial) {
+    const UV uv{0.01 + 0.98 * uni(rng), 0.05 + 0.9 * uni(rng)};
+    expect_inverts_forward_tangents(s, uv, 1e-6);
+    expect_inverts_forward_tangents(c, uv, 1e-6);
+    expect_inverts_forward_tangents(k, uv, 1e-6);
+    expect_inverts_forward_tangents(d, uv, 1e-6);
+    expect_inverts_forward_tangents(q, uv, 1e-6);
+    expect_inverts_forward_tangents(pl, uv, 1e-6);
+  }
+}
+
 TEST(Derivatives, PlaneByHand) {
   // u_axis (2, 0, 0), v_axis (0, 4, 0): u = x / 2, v = y / 4.
   const Plane pl = make<Plane>(PlaneParams{{1, 1, 1}, {2, 0, 0}, {0, 4, 0}});
