@@ -3,18 +3,22 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <mutex>
 #include <optional>
 #include <string>
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/dilate.h"
+#include "bake/shade/footprint.h"
 #include "bake/shade/shade.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
 #include "bake/vertex/bake_vertex.h"
+#include "mapping/derivatives.h"
+#include "mapping/mipmap.h"
 #include "mapping/sample.h"
 
 namespace texbake {
@@ -37,6 +41,10 @@ struct SampleContext {
   Rgba occluded_color{};
   float* atlas = nullptr;    // size * size * 4
   uint8_t* baked = nullptr;  // size * size
+  // --filter ewa: the footprint vectors' length in atlas UV units, the
+  // supersample's cell side 1 / (size sqrt(samples)) over sqrt(2) (the
+  // ellipse through the cell's corners); 0: the bilinear lookup.
+  double cell = 0;
 };
 
 struct ChunkCounts {
@@ -95,6 +103,33 @@ inline void store_texel(const SampleContext& ctx, uint32_t t, const std::array<d
   Rgba mean;
   for (int ch = 0; ch < 4; ++ch) mean[ch] = static_cast<float>(acc[ch] / static_cast<double>(spt));
   store_color(ctx, t, ctx.shade.stored(mean));
+}
+
+// --filter ewa: the surface footprint of a supersample on triangle t, the
+// 3D vectors of one cell step in the atlas's u and in its v (the triangle's
+// UV-to-3D map is affine: P = P0 + s dP/ds + t dP/dt over UV (s, t)). A
+// triangle whose UVs are degenerate has none (zero vectors: bilinear).
+void cell_tangents(const MeshData& mesh, uint32_t t, double cell, Vec3& ts, Vec3& tt) {
+  const auto& tri = mesh.triangles[t];
+  const auto& corners = mesh.triangle_corners[t];
+  Vec3 p[3];
+  double s[3], v[3];
+  for (int k = 0; k < 3; ++k) {
+    const Float3 q = mesh.positions[tri[k]];
+    p[k] = {q.x, q.y, q.z};
+    const Float2 uv = mesh.uvs[mesh.corner_uv[corners[k]]];
+    s[k] = uv.u;
+    v[k] = uv.v;
+  }
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const double s1 = s[1] - s[0], s2 = s[2] - s[0], v1 = v[1] - v[0], v2 = v[2] - v[0];
+  const double det = s1 * v2 - s2 * v1;
+  if (!(std::abs(det) > 0) || !std::isfinite(det)) {
+    ts = tt = Vec3{};
+    return;
+  }
+  ts = (e1 * v2 - e2 * v1) * (cell / det);
+  tt = (e2 * s1 - e1 * s2) * (cell / det);
 }
 
 Vec3 sample_point(const MeshData& mesh, uint32_t t, float b1, float b2) {
@@ -183,7 +218,16 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
       } else if (!visible) {
         ++counts.occluded;
       }
-      const Shaded c = ctx.shade.shade(m, visible);
+      UvFootprint footprint{};
+      if (ctx.cell > 0 && m.status != MapStatus::kUndefined) {
+        // The sample's triangle after the overlap choice above.
+        const uint32_t tri = r.sample_triangle[s];
+        Vec3 ts, tt;
+        cell_tangents(*ctx.mesh, tri, ctx.cell, ts, tt);
+        const Vec3 p = sample_point(*ctx.mesh, tri, r.sample_b1[s], r.sample_b2[s]);
+        footprint = uv_footprint(inverse_map_jacobian(proxy, p), ts, tt);
+      }
+      const Shaded c = ctx.shade.shade(m, visible, footprint);
       if (c.kind == Shade::kFill) {
         any_fill = true;
         continue;
@@ -304,6 +348,19 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   SampleContext ctx;
   ctx.mesh = &mesh;
   ctx.shade = make_shade_rule(working.view, proxy, sh);
+  // --filter ewa: the pyramid of the working image, and each supersample's
+  // cell (the texel split into samples cells of equal area).
+  std::optional<MipPyramid> mip;
+  if (sh.filter == VertexFilter::kEwa) {
+    mip.emplace(working.view, pyramid_rows);
+    ctx.shade.mip = &*mip;
+    // The ellipse with conjugate semi-axes ts / sqrt(2), tt / sqrt(2) passes
+    // through the cell's corners (ts +- tt) / 2: the smallest such ellipse
+    // that covers the cell. (With the whole cell side as semi-axes, pbrt's
+    // convention for a pixel's differentials, the zone-plate benchmark of
+    // bench/filter_quality_bench.cpp loses 2.2 dB against the box reference.)
+    ctx.cell = 1.0 / (options.size * std::sqrt(2.0 * options.samples));
+  }
   ctx.fill_colors = fill_first ? &fill_colors : nullptr;
   ctx.occluded_color = sh.occluded_color;
   if (scene) {

@@ -13,8 +13,15 @@
 //     (undefined ones have none: they are filled), kColor the constant, kFill
 //     the per-vertex inpainting of bake/vertex/occlusion_fill.h (through bake_vertex
 //     with the bilinear filter) interpolated barycentrically over the sample's
-//     triangle. A texel is the plain mean of its samples. With
-//     resolve_overlaps a sample inside several triangles prefers a visible one.
+//     triangle. A texel is the plain mean of its samples. Under
+//     shading.filter kEwa the image lookup is sample_ewa (mapping/mipmap.h)
+//     over the working image's MIP pyramid instead of the bilinear one; a
+//     sample's footprint on the surface is the ellipse through the corners
+//     of its cell of the texel (1 / sqrt(samples) of a texel a side): the two
+//     3D vectors of one cell step in the atlas's u and v (the triangle's
+//     UV-to-3D map) over sqrt(2), then into the image's (u, v) by the inverse
+//     mapping's Jacobian (mapping/derivatives.h). With resolve_overlaps a
+//     sample inside several triangles prefers a visible one.
 //  3. pad (bake/atlas/dilate.h, issue #11 item 4):
 //     - kPaddingDefault: default_padding(size) rings of 8-neighbour dilation
 //       (all four channels: the rings are opaque), then push-pull of the
@@ -77,8 +84,9 @@ struct AtlasBakeOptions {
   // surface's colour. Costs a full candidate scan per sample and a ray per
   // further candidate; bake_atlas_texture sets it when the layout overlaps.
   bool resolve_overlaps = false;
-  // visibility, occluded (+ colour), outside (+ colour), linear, plane_wrap;
-  // filter and samples are not used by the atlas.
+  // visibility, occluded (+ colour), outside (+ colour), linear, plane_wrap,
+  // filter: kEwa filters each supersample by its footprint (below), anything
+  // else is the bilinear lookup; shading.samples is not used by the atlas.
   VertexBakeOptions shading;
 };
 

@@ -310,7 +310,7 @@ int run_bake(const BakeCliOptions& o) {
   if (!target) return report_error(target.error());
   const bool atlas = *target == BakeTarget::kAtlas;
   const std::vector<std::string> wrong_target =
-      atlas ? given_flags(*o.command, {"--filter", "--ascii"})
+      atlas ? given_flags(*o.command, {"--ascii"})
             : given_flags(*o.command, {"--size", "--padding", "--uv", "--format"});
   if (!wrong_target.empty()) {
     return report_error(ErrorCode::kInvalidArgument,
@@ -326,8 +326,16 @@ int run_bake(const BakeCliOptions& o) {
       return report_error(s.error());
     }
   }
+  if (atlas && o.command->count("--filter") > 0 && o.filter == VertexFilter::kArea) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--filter area applies to --target vertex only (the atlas takes bilinear "
+                        "or ewa; this bake's target is atlas, writing " +
+                            o.output + ")");
+  }
   if (Status s = check_wrap(o, geometry.kind); !s) return report_error(s.error());
-  const VertexBakeOptions shading = shading_options(o);
+  VertexBakeOptions shading = shading_options(o);
+  // The atlas's lookup: bilinear per supersample unless --filter ewa.
+  if (atlas && shading.filter != VertexFilter::kEwa) shading.filter = VertexFilter::kBilinear;
   AtlasOptions atlas_opts;
   if (atlas) {
     Expected<AtlasOptions> a = atlas_options(o.atlas, o.samples, shading, output);
@@ -505,9 +513,13 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
   cmd->add_flag("--ascii", o->ascii, "vertex target, .ply: ASCII instead of binary little-endian");
 
   add_choice_option(*cmd, "--filter", o->filter,
-                    {{"bilinear", VertexFilter::kBilinear}, {"area", VertexFilter::kArea}},
-                    "vertex target: bilinear (sample at the vertex) or area (average over the "
-                    "vertex's share of its triangles, default)");
+                    {{"bilinear", VertexFilter::kBilinear},
+                     {"area", VertexFilter::kArea},
+                     {"ewa", VertexFilter::kEwa}},
+                    "vertex: bilinear (sample at the vertex), area (average of --samples over "
+                    "the vertex's share of its triangles, default) or ewa (one elliptical "
+                    "weighted average over a MIP pyramid, sized by the vertex's share); atlas: "
+                    "bilinear (default) or ewa (each supersample filtered by its footprint)");
   cmd->add_option_function<int>(
          "--samples", [o](int n) { o->samples = n; },
          "vertex: samples per vertex for --filter area (default 16, 1..65536); atlas: "

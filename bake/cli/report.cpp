@@ -19,6 +19,7 @@ ordered_json proxy_json(const ProxyParams& params) {
 }
 
 const char* name(VertexFilter f) {
+  if (f == VertexFilter::kEwa) return "ewa";
   return f == VertexFilter::kArea ? "area" : "bilinear";
 }
 const char* name(Visibility v) {
@@ -86,6 +87,7 @@ std::string report_json(const BakeReport& r) {
   inputs["image"] = {{"width", r.image_width}, {"height", r.image_height}};
   ordered_json& o = inputs["options"];
   if (atlas) {
+    o["filter"] = r.options.filter == VertexFilter::kEwa ? "ewa" : "bilinear";
     o["samples"] = r.atlas->options.samples;
   } else {
     o["filter"] = name(r.options.filter);

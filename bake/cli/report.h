@@ -33,7 +33,7 @@
 // is blocked, "unfilled" fill-bound vertices in components with no visible
 // vertex. Atlas target: "texels" covered texels, "samples" supersamples
 // taken, "occluded"/"undefined"/"outside" samples, "padded" texels filled by
-// the padding; options.filter does not apply and "samples" is per texel.
+// the padding; options.filter is "bilinear" or "ewa" and "samples" is per texel.
 // Everything but "inputs" and the CLI's own timings comes from the Stats of
 // texbake/texbake.h: the proxy's (timings.fit) and the bake's (counts and
 // the other timings; atlas "sample" is Timings::bake).

@@ -373,8 +373,10 @@ VertexBakeOptions shading_options(const std::string& filter, int samples,
                                   const std::string& visibility, const py::object& occluded,
                                   const py::object& outside, bool linear, const std::string& wrap) {
   VertexBakeOptions o;
-  o.filter = choice<VertexFilter>(
-      filter, "filter", {{"bilinear", VertexFilter::kBilinear}, {"area", VertexFilter::kArea}});
+  o.filter = choice<VertexFilter>(filter, "filter",
+                                  {{"bilinear", VertexFilter::kBilinear},
+                                   {"area", VertexFilter::kArea},
+                                   {"ewa", VertexFilter::kEwa}});
   o.samples = samples;
   o.visibility = choice<Visibility>(visibility, "visibility",
                                     {{"first", Visibility::kFirst}, {"all", Visibility::kAll}});

@@ -10,11 +10,17 @@
 
 namespace texbake {
 
-// How a vertex's colour is taken from the image (SPEC section 4).
+// How a colour is taken from the image (SPEC sections 4 and 13). The vertex
+// target knows all three; the atlas bilinear (kBilinear or kArea: the
+// bilinear lookup per supersample, as always) and kEwa.
 enum class VertexFilter {
   kBilinear,  // one bilinear sample at the vertex
   kArea,      // average of `samples` bilinear samples over the vertex's share of
               // its adjacent triangles (area-weighted, stratified, deterministic)
+  kEwa,       // one footprint-filtered lookup (mapping/mipmap.h sample_ewa) whose
+              // footprint is the inverse mapping's Jacobian (mapping/derivatives.h)
+              // times the sample's footprint on the surface (bake/shade/footprint.h):
+              // the vertex's share of its triangles, or the atlas supersample's cell
 };
 
 // SPEC section 3.
@@ -38,7 +44,8 @@ enum class OutsideMode {
 
 struct VertexBakeOptions {
   VertexFilter filter = VertexFilter::kArea;
-  // Bilinear samples per vertex for VertexFilter::kArea (>= 1). Ignored by kBilinear.
+  // Bilinear samples per vertex for VertexFilter::kArea (>= 1). Ignored by
+  // kBilinear and kEwa (one lookup per vertex).
   int samples = 16;
 
   Visibility visibility = Visibility::kFirst;

@@ -25,6 +25,10 @@ WorkingImage working_image(const ImageView& image, bool linear) {
   return out;
 }
 
+void pyramid_rows(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body) {
+  parallel_for_chunks(count, 16, body);
+}
+
 namespace {
 
 ShadeRule rule_with_wraps(const ImageView& image, WrapMode u, WrapMode v,

@@ -8,7 +8,10 @@
 //  - kOutside, unless the plane tiles (--wrap repeat, then nothing is
 //    outside): --outside clamp samples the image with the wrap rules below
 //    (the edge texel), --outside R,G,B[,A] gives that constant.
-//  - kOk: the image's bilinear sample (mapping/sample.h) at m.uv.
+//  - kOk: the image's bilinear sample (mapping/sample.h) at m.uv; under
+//    --filter ewa (ShadeRule::mip set) the EWA lookup over the image's MIP
+//    pyramid (mapping/mipmap.h) with the sample's footprint instead, for
+//    kOutside under --outside clamp too.
 //  Wrap rules: u wraps (periodic) for sphere, cylinder, cone and disk,
 //  everything else clamps; the plane with --wrap repeat tiles u and v.
 //  Colours are in the working encoding: the image's stored values for an
@@ -28,10 +31,12 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "bake/shade/options.h"
 #include "mapping/image_view.h"
+#include "mapping/mipmap.h"
 #include "mapping/proxy.h"
 #include "mapping/sample.h"
 
@@ -60,16 +65,27 @@ struct ShadeRule {
   OccludedMode occluded = OccludedMode::kFill;
   Rgba occluded_color{};  // working encoding
   bool linear = false;    // the working encoding is linear light (image.color_space kLinear)
+  // --filter ewa: the pyramid of `image` (same pixels, level 0 is `image`);
+  // null: the bilinear lookup (the footprint is ignored). Not owned.
+  const MipPyramid* mip = nullptr;
+  double max_anisotropy = kDefaultMaxAnisotropy;
+
+  // The image at uv: EWA with `footprint` when mip is set, else bilinear.
+  Rgba lookup(UV uv, const UvFootprint& footprint) const {
+    if (mip) return sample_ewa(*mip, uv, footprint, wrap_u, wrap_v, max_anisotropy);
+    return sample_bilinear(image, uv, wrap_u, wrap_v);
+  }
 
   // The projected colour of a mapped point, no visibility involved: kImage,
-  // kOutside, or kNone when m has no mapping.
-  Shaded project(const MapResult& m) const {
+  // kOutside, or kNone when m has no mapping. `footprint` (in (u, v)) is used
+  // by the EWA lookup only.
+  Shaded project(const MapResult& m, const UvFootprint& footprint = {}) const {
     if (m.status == MapStatus::kUndefined) return {{}, Shade::kNone};
     if (m.status == MapStatus::kOutside && has_outside) {
       if (outside_constant) return {outside_color, Shade::kOutside};
-      return {sample_bilinear(image, m.uv, wrap_u, wrap_v), Shade::kOutside};
+      return {lookup(m.uv, footprint), Shade::kOutside};
     }
-    return {sample_bilinear(image, m.uv, wrap_u, wrap_v), Shade::kImage};
+    return {lookup(m.uv, footprint), Shade::kImage};
   }
 
   // True when the occlusion fill colours this sample (SPEC section 3):
@@ -84,12 +100,12 @@ struct ShadeRule {
   // free: visible): kFill when needs_fill(); kConstant for an occluded or
   // unmapped sample under --occluded R,G,B; otherwise project() (occluded
   // samples under --occluded project take their projected colour). Never kNone.
-  Shaded shade(const MapResult& m, bool visible) const {
+  Shaded shade(const MapResult& m, bool visible, const UvFootprint& footprint = {}) const {
     if (needs_fill(m, visible)) return {{}, Shade::kFill};
     if (occluded == OccludedMode::kColor && (m.status == MapStatus::kUndefined || !visible)) {
       return {occluded_color, Shade::kConstant};
     }
-    return project(m);
+    return project(m, footprint);
   }
 
   // A colour of the working encoding sRGB-encoded, and back (the sRGB curves
@@ -121,6 +137,10 @@ struct WorkingImage {
 };
 // Precondition: image has width * height pixels of data (may be 0 x 0).
 WorkingImage working_image(const ImageView& image, bool linear);
+
+// The MIP pyramid's row runner on the bake's threads (parallel_for_chunks):
+// MipPyramid(view, pyramid_rows) for --filter ewa.
+void pyramid_rows(std::size_t count, const std::function<void(std::size_t, std::size_t)>& body);
 
 // The rule of one job: sampling `image` (already in the working encoding,
 // see working_image: linear when its color_space is kLinear) through `proxy`

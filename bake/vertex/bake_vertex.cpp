@@ -7,6 +7,7 @@
 #include <optional>
 #include <variant>
 
+#include "bake/shade/footprint.h"
 #include "bake/shade/sample_pattern.h"
 #include "bake/shade/shade.h"
 #include "bake/trace/embree_scene.h"
@@ -14,6 +15,8 @@
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
 #include "bake/vertex/occlusion_fill.h"
+#include "mapping/derivatives.h"
+#include "mapping/mipmap.h"
 #include "mapping/sample.h"
 
 namespace texbake {
@@ -88,9 +91,10 @@ struct Accumulator {
 
 // One mapped sample into the accumulator (the shading rule, bake/shade/shade.h):
 // samples without a mapping are left out.
-void accumulate(const BakeContext& ctx, const MapResult& m, Accumulator& acc, ChunkCounts& counts) {
+void accumulate(const BakeContext& ctx, const MapResult& m, Accumulator& acc, ChunkCounts& counts,
+                const UvFootprint& footprint = {}) {
   ++counts.samples;
-  const Shaded s = ctx.shade.project(m);
+  const Shaded s = ctx.shade.project(m, footprint);
   if (s.kind == Shade::kNone) return;
   if (s.kind == Shade::kOutside) ++counts.outside;
   acc.add(s.color);
@@ -109,6 +113,7 @@ std::optional<Rgba> vertex_color(const P& proxy, const BakeContext& ctx, uint32_
   const Vec3 a = to_vec(mesh.positions[v]);
 
   double total = 0;
+  Vec3 normal;  // sum of the triangles' area vectors (twice their areas)
   if (k > 0) {
     cdf.resize(k);
     for (uint32_t j = 0; j < k; ++j) {
@@ -117,8 +122,21 @@ std::optional<Rgba> vertex_color(const P& proxy, const BakeContext& ctx, uint32_
       const Vec3 e =
           cross(to_vec(mesh.positions[tri[1]]) - p0, to_vec(mesh.positions[tri[2]]) - p0);
       total += 0.5 * length(e);
+      normal += e;
       cdf[j] = total;
     }
+  }
+  if (ctx.options->filter == VertexFilter::kEwa) {
+    // One EWA lookup at the vertex. Its footprint on the surface: the
+    // vertex's share of its triangles (a third of each, total / 3) as a
+    // square of that area in the plane of the area-weighted normal, i.e. two
+    // perpendicular tangents of length sqrt(total / 3); in (u, v) through
+    // the Jacobian at the vertex. A vertex without triangles: bilinear.
+    Vec3 t1, t2;
+    isotropic_tangents(normal, total / 3, t1, t2);
+    accumulate(ctx, vertex_map, acc, counts, uv_footprint(inverse_map_jacobian(proxy, a), t1, t2));
+    if (acc.count == 0) return std::nullopt;
+    return acc.mean();
   }
   if (!(total > 0)) {  // bilinear filter, or a vertex in no (non-degenerate) triangle
     accumulate(ctx, vertex_map, acc, counts);
@@ -257,8 +275,15 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   ctx.options = &options;
   ctx.shade = make_shade_rule(working.view, proxy, options);
   stage.linear = ctx.shade.linear;
+  // --filter ewa: the pyramid of the working image (its encoding, as the
+  // bilinear lookup's), built once per job.
+  std::optional<MipPyramid> mip;
+  if (options.filter == VertexFilter::kEwa) {
+    mip.emplace(working.view, pyramid_rows);
+    ctx.shade.mip = &*mip;
+  }
   Adjacency adjacency;
-  if (options.filter == VertexFilter::kArea) {
+  if (options.filter == VertexFilter::kArea || options.filter == VertexFilter::kEwa) {
     adjacency = build_adjacency(mesh);
     ctx.adjacency = &adjacency;
   }

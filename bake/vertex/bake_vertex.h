@@ -10,7 +10,13 @@
 //     is stratified along the cumulative area and jittered by a hash of
 //     (vertex, sample index), so it is deterministic and never depends on the
 //     thread count. A vertex in no non-degenerate triangle samples bilinearly
-//     at itself.
+//     at itself. kEwa: one footprint-filtered lookup at the vertex
+//     (mapping/mipmap.h sample_ewa over the working image's MIP pyramid);
+//     the footprint on the surface is the vertex's share of its triangles
+//     (a third of each) as a square of that area, i.e. two perpendicular
+//     tangents of length sqrt(share) in the plane of the area-weighted
+//     normal, carried into (u, v) by the inverse mapping's Jacobian at the
+//     vertex (mapping/derivatives.h, bake/shade/footprint.h).
 //  2. Each sample point goes through the proxy's inverse_map: kOk samples the
 //     image; kOutside follows options.outside (clamp: the sampler's edge
 //     texel; colour: the constant enters the average); kUndefined samples are

@@ -352,7 +352,7 @@ TEST_F(BakeAtlasCli, UsageErrorsExit2NamingTheFlagAndWriteNothing) {
       {in + " --format jpg -o " + q(dir_ / "o.obj"), "--format"},
       {in + " --size 512 -o " + q(dir_ / "o.ply"), "--size applies to --target atlas only"},
       {in + " --uv generate --target vertex -o " + q(dir_ / "o.obj"), "--uv applies"},
-      {in + " --filter bilinear -o " + q(dir_ / "o.obj"), "--filter applies to --target vertex"},
+      {in + " --filter area -o " + q(dir_ / "o.obj"), "--filter area applies to --target vertex"},
       {in + " --ascii -o " + q(dir_ / "o.obj"), "--ascii"},
       {in + " -o " + q(dir_ / "o.stl"), "unknown output format '.stl'"},
       {"bake " + q(plain) + " --texture " + q(dir_ / "map.png") +

@@ -142,9 +142,10 @@ TEST_F(BakeReport, AtlasKeysInOrderForEachUvLayout) {
     ASSERT_TRUE(j.is_object()) << l.uv;
     EXPECT_EQ(keys(j), top) << l.uv;
     EXPECT_EQ(j["target"], "atlas");
-    EXPECT_EQ(keys(j["inputs"]["options"]),
-              (Keys{"samples", "visibility", "occluded", "outside", "wrap", "linear", "threads"}))
+    EXPECT_EQ(keys(j["inputs"]["options"]), (Keys{"filter", "samples", "visibility", "occluded",
+                                                  "outside", "wrap", "linear", "threads"}))
         << l.uv;
+    EXPECT_EQ(j["inputs"]["options"]["filter"], "bilinear") << l.uv;
     EXPECT_EQ(keys(j["counts"]), counts) << l.uv;
     const ordered_json& a = j["atlas"];
     Keys atlas_keys{"uv", "size", "samples_per_texel", "padding", "counts"};

@@ -140,3 +140,16 @@ def test_glb_writes_the_cli_bytes_with_its_up(tmp_path, earth, up):
     if up:  # the node matrix differs from the Z-up one
         texbake.write_vertex_colors(tmp_path / "z.glb", mesh, colors)
         assert (tmp_path / "z.glb").read_bytes() != cli.read_bytes()
+
+
+def test_ewa_vertex_bake_writes_the_cli_bytes(tmp_path, bunny, earth):
+    # --filter ewa (issue #16 item 2): the module's filter="ewa" is the CLI's.
+    cli = tmp_path / "cli.ply"
+    r = run_cli("bake", DATA / "bunny00.off", "--texture", DATA / "earth.jpg", *SPHERE_FLAGS,
+                "--filter", "ewa", "--visibility", "all", "-q", "-o", cli)
+    assert r.returncode == 0, r.stderr
+    colors, stats = texbake.bake_vertex(bunny, earth, sphere(), filter="ewa", visibility="all")
+    out = tmp_path / "py.ply"
+    texbake.write_vertex_colors(out, bunny, colors)
+    assert out.read_bytes() == cli.read_bytes()
+    assert stats["counts"]["samples"] == 37706  # one lookup per vertex

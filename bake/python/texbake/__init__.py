@@ -257,7 +257,7 @@ def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first"
 
     image: (h, w, c) array (float32 RGBA C-contiguous is used without a
     copy; uint8/uint16 are scaled to [0, 1]). Options as the command line's:
-    filter 'area' | 'bilinear', samples (1..65536, area only), visibility
+    filter 'area' | 'bilinear' | 'ewa', samples (1..65536, area only), visibility
     'first' | 'all', occluded 'fill' | 'project' | (r, g, b[, a]), outside
     'clamp' | (r, g, b[, a]), linear, wrap 'clamp' | 'repeat' (plane only).
     Returns (colors (n, 4) float32 in the input's vertex order, stats dict:
