@@ -24,7 +24,6 @@ namespace texbake {
 namespace {
 
 namespace fs = std::filesystem;
-using colour_testing::srgb_decode;
 using colour_testing::srgb_encode;
 
 // Little-endian bytes of a glTF buffer built in the test.
@@ -358,6 +357,46 @@ TEST_F(ReadGltfTest, NonIndexedMirroredWithByteColoursAndDataUris) {
     EXPECT_EQ(std::lround(tex->pixels[k] * 255), std::lround(px[k] * 255));
   EXPECT_NE(mesh_texture_label(m).find("mirrored.gltf: image 0 (embedded image/png"),
             std::string::npos);
+}
+
+// A GLB of an independent writer (tests/data/gltf/make_box_open3d.py,
+// Open3D 0.16): its create_box(1, 2, 3) vertices in Open3D's order, 12
+// triangles all facing out of the box (closed, so each triangle's normal
+// points away from the centre (0.5, 1, 1.5)), and COLOR_0 (i / 7, 0.5,
+// 1 - i / 7) as linear light, sRGB-encoded on reading.
+TEST_F(ReadGltfTest, Open3dBoxReadsWithOutwardTrianglesAndColours) {
+  const fs::path glb = fs::path(TEXBAKE_SOURCE_DIR) / "tests" / "data" / "gltf" / "box_open3d.glb";
+  Expected<LoadedMesh> read = read_mesh(glb);
+  ASSERT_TRUE(read) << read.error().message;
+  const MeshData& m = read->mesh;
+  const std::array<std::array<float, 3>, 8> want = {
+      {{0, 0, 0}, {1, 0, 0}, {0, 0, 3}, {1, 0, 3}, {0, 2, 0}, {1, 2, 0}, {0, 2, 3}, {1, 2, 3}}};
+  ASSERT_EQ(m.vertex_count(), 8u);
+  for (int v = 0; v < 8; ++v) {
+    EXPECT_EQ(m.positions[v].x, want[v][0]) << v;
+    EXPECT_EQ(m.positions[v].y, want[v][1]) << v;
+    EXPECT_EQ(m.positions[v].z, want[v][2]) << v;
+  }
+  ASSERT_EQ(m.triangles.size(), 12u);
+  for (const auto& t : m.triangles) {
+    const Float3 a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+    const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+    const double vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
+    const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    const double cx = (a.x + b.x + c.x) / 3 - 0.5, cy = (a.y + b.y + c.y) / 3 - 1,
+                 cz = (a.z + b.z + c.z) / 3 - 1.5;
+    EXPECT_GT(nx * cx + ny * cy + nz * cz, 0) << t[0] << " " << t[1] << " " << t[2];
+  }
+  ASSERT_TRUE(m.has_vertex_colors());
+  for (int v = 0; v < 8; ++v) {
+    const std::array<double, 3> lin = {v / 7.0, 0.5, 1 - v / 7.0};
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(m.vertex_colors[v][k], srgb_encode(lin[k]), 1e-5) << v << " " << k;
+    }
+    EXPECT_EQ(m.vertex_colors[v][3], 1.f);
+  }
+  EXPECT_FALSE(m.has_uvs());
+  EXPECT_TRUE(m.corner_normal.empty());
 }
 
 TEST_F(ReadGltfTest, ValidBaseFileReads) {
