@@ -406,6 +406,58 @@ TEST_F(ReadGltfTest, ValidBaseFileReads) {
   EXPECT_FALSE(m->mesh.base_color_factor);  // no material
 }
 
+// Two nodes using mesh 0 (the second translated by (0, 0, 1)): the mesh is
+// read twice, in node order. Without scenes every mesh is read once,
+// untransformed.
+TEST_F(ReadGltfTest, InstancesAndFilesWithoutScene) {
+  Expected<LoadedMesh> two = read_mesh(bad_gltf(
+      R"("nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}])",
+      R"("nodes": [{"mesh": 0}, {"mesh": 0, "translation": [0, 0, 1]}], "scenes": [{"nodes": [0, 1]}])"));
+  ASSERT_TRUE(two) << two.error().message;
+  ASSERT_EQ(two->mesh.vertex_count(), 6u);
+  EXPECT_EQ(two->mesh.face_vertices, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5}));
+  for (int v = 0; v < 6; ++v) EXPECT_EQ(two->mesh.positions[v].z, v < 3 ? 0.f : 1.f) << v;
+  EXPECT_EQ(two->mesh.positions[4].x, 1.f);
+
+  Expected<LoadedMesh> none =
+      read_mesh(bad_gltf(R"("nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0)",
+                         R"("nodes": [{"mesh": 0, "translation": [5, 5, 5]}])"));
+  ASSERT_TRUE(none) << none.error().message;
+  ASSERT_EQ(none->mesh.vertex_count(), 3u);
+  EXPECT_EQ(none->mesh.positions[1].x, 1.f);  // the node (not in any scene) is not applied
+  EXPECT_EQ(none->mesh.positions[1].z, 0.f);
+}
+
+// KHR_mesh_quantization: normalised shorts (32767 -> 1) with a byteStride
+// of 8, unsigned byte indices.
+TEST_F(ReadGltfTest, QuantizedPositionsAndByteIndices) {
+  const fs::path file = fs::path(TEXBAKE_SOURCE_DIR) / "tests" / "fuzz" / "corpus" /
+                        "fuzz_mesh_gltf" / "quantized_noscene.gltf";
+  Expected<LoadedMesh> m = read_mesh(file);
+  ASSERT_TRUE(m) << m.error().message;
+  ASSERT_EQ(m->mesh.vertex_count(), 3u);
+  EXPECT_EQ(m->mesh.face_vertices, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(m->mesh.positions[1].x, 1.f);
+  EXPECT_EQ(m->mesh.positions[2].y, 1.f);
+  EXPECT_EQ(m->mesh.positions[2].x, 0.f);
+}
+
+TEST_F(ReadGltfTest, UnsupportedFeaturesAreNamed) {
+  expect_error(
+      bad_gltf(R"({"asset": {"version": "2.0"},)",
+               R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_texture_transform"],
+ "extensionsRequired": ["KHR_texture_transform"],)"),
+      ErrorCode::kParse, "requires the extension KHR_texture_transform");
+  expect_error(bad_gltf(R"("count": 3, "type": "VEC3"})",
+                        R"("count": 3, "type": "VEC3", "sparse": {"count": 1,
+   "indices": {"bufferView": 1, "componentType": 5123},
+   "values": {"bufferView": 0}}})"),
+               ErrorCode::kParse, "is sparse");
+  expect_error(bad_gltf(R"("scene": 0)", R"("scene": 3)"), ErrorCode::kParse,
+               "the default scene 3 does not exist");
+  expect_error(bad_gltf(R"("version": "2.0")", R"("version": "1.0")"), ErrorCode::kParse, "1.0");
+}
+
 TEST_F(ReadGltfTest, TruncatedAndCorruptGlb) {
   MeshData mesh = test::uv_sphere({0, 0, 0}, 1, 4, 8);
   test::faces_from_triangles(mesh);
