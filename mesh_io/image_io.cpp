@@ -8,6 +8,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <memory>
 
 #include "mapping/sample.h"
 #include "mesh_io/atomic_file.h"
@@ -88,22 +90,12 @@ Status check_image_size(long long width, long long height, int channels) {
   return ok_status();
 }
 
-Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options) {
-  // Before OIIO opens it: a FIFO would block, a device never end.
-  if (Status s = check_regular_file(path, "an image"); !s) return s.error();
-  std::error_code ec;
-  if (fs::file_size(path, ec) == 0) {
-    return image_error(ErrorCode::kParse, path, "the file is empty (0 bytes)");
-  }
-  // Keep the stored values (SPEC section 1): without this OIIO premultiplies
-  // colour by alpha when it reads PNG, GIF and other unassociated formats.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(path.string(), &config);
-  if (!in) {
-    return image_error(ErrorCode::kParse, path,
-                       "cannot read as an image: " + first_line(OIIO::geterror()));
-  }
+namespace {
+
+// Decodes the opened image `in` (a file or an in-memory proxy of
+// `stored_bytes` bytes); `path` names it in errors.
+Expected<Image> decode_image(std::unique_ptr<OIIO::ImageInput> in, const fs::path& path,
+                             long long stored_bytes, const ImageReadOptions& options) {
   const OIIO::ImageSpec& spec = in->spec();
   const long long w = spec.width, h = spec.height;
   if (spec.depth > 1 || spec.deep) {
@@ -118,8 +110,8 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
   const std::string format = in->format_name();
   if (format == "png" || format == "jpeg") {
     const long long raw = w * h * spec.nchannels * static_cast<long long>(spec.format.size());
-    const auto bytes = static_cast<long long>(fs::file_size(path, ec));
-    if (!ec && raw / kMaxCompressionRatio > bytes) {
+    const long long bytes = stored_bytes;
+    if (raw / kMaxCompressionRatio > bytes) {
       return image_error(ErrorCode::kParse, path,
                          "declares " + std::to_string(w) + " x " + std::to_string(h) +
                              " pixels, more than a " + std::to_string(bytes) + "-byte " + format +
@@ -206,6 +198,79 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
         options.color_space == TextureColorSpace::kLinear ? ColorSpace::kLinear : ColorSpace::kSrgb;
   }
   return img;
+}
+
+// Keep the stored values (SPEC section 1): without this OIIO premultiplies
+// colour by alpha when it reads PNG, GIF and other unassociated formats.
+OIIO::ImageSpec read_config() {
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  return config;
+}
+
+// The file name extension OIIO picks its reader by for an embedded image:
+// from the MIME type, else from the first bytes (PNG, JPEG signatures).
+std::string memory_image_extension(const unsigned char* data, std::size_t size,
+                                   const std::string& mime_type) {
+  const std::string m = lower(mime_type);
+  if (m == "image/png") return ".png";
+  if (m == "image/jpeg" || m == "image/jpg") return ".jpg";
+  if (m == "image/webp") return ".webp";
+  if (m == "image/bmp") return ".bmp";
+  if (m == "image/gif") return ".gif";
+  if (m == "image/tiff") return ".tif";
+  static const unsigned char kPng[4] = {0x89, 'P', 'N', 'G'};
+  if (size >= 4 && std::equal(kPng, kPng + 4, data)) return ".png";
+  if (size >= 3 && data[0] == 0xFF && data[1] == 0xD8 && data[2] == 0xFF) return ".jpg";
+  return "";
+}
+
+}  // namespace
+
+Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options) {
+  // Before OIIO opens it: a FIFO would block, a device never end.
+  if (Status s = check_regular_file(path, "an image"); !s) return s.error();
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (size == 0) return image_error(ErrorCode::kParse, path, "the file is empty (0 bytes)");
+  const OIIO::ImageSpec config = read_config();
+  auto in = OIIO::ImageInput::open(path.string(), &config);
+  if (!in) {
+    return image_error(ErrorCode::kParse, path,
+                       "cannot read as an image: " + first_line(OIIO::geterror()));
+  }
+  // A size that could not be read takes no part in the compression check.
+  const long long stored =
+      ec ? std::numeric_limits<long long>::max() : static_cast<long long>(size);
+  return decode_image(std::move(in), path, stored, options);
+}
+
+Expected<Image> read_image_from_memory(std::span<const unsigned char> bytes,
+                                       const std::string& mime_type, const std::string& name,
+                                       const ImageReadOptions& options) {
+  if (bytes.empty()) return image_error(ErrorCode::kParse, name, "the image is empty (0 bytes)");
+  const std::string ext = memory_image_extension(bytes.data(), bytes.size(), mime_type);
+  if (ext.empty()) {
+    return image_error(ErrorCode::kParse, name,
+                       "cannot read as an image: unknown format" +
+                           (mime_type.empty() ? std::string() : " '" + mime_type + "'"));
+  }
+  // OIIO 2.4: an ImageInput reads from a Filesystem::IOMemReader instead of
+  // a file; the name's extension picks the format. The proxy outlives `in`
+  // (decode_image closes it).
+  OIIO::Filesystem::IOMemReader proxy(const_cast<unsigned char*>(bytes.data()), bytes.size());
+  OIIO::ImageSpec config = read_config();
+  // OIIO 2.4's readers take the proxy from the configuration hint
+  // "oiio:ioproxy" when a config is given (the open() argument alone is
+  // replaced by the config's, i.e. none).
+  OIIO::Filesystem::IOProxy* proxy_ptr = &proxy;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
+  auto in = OIIO::ImageInput::open("embedded" + ext, &config, &proxy);
+  if (!in) {
+    return image_error(ErrorCode::kParse, name,
+                       "cannot read as an image: " + first_line(OIIO::geterror()));
+  }
+  return decode_image(std::move(in), name, static_cast<long long>(bytes.size()), options);
 }
 
 namespace {

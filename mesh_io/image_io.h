@@ -43,6 +43,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,17 @@ struct ImageReadOptions {
 };
 
 Expected<Image> read_image(const std::filesystem::path& path, const ImageReadOptions& options = {});
+
+// read_image for an encoded image held in memory (an image embedded in a
+// glTF file): the same decoding, limits and colour-space rules, through
+// OpenImageIO's in-memory reader (Filesystem::IOMemReader). The format comes
+// from `mime_type` (image/png, image/jpeg, image/webp, image/bmp,
+// image/gif, image/tiff), else from the bytes' signature (PNG, JPEG).
+// `name` stands for the file in errors ("MODEL.glb: image 0"). Errors:
+// kParse (empty, unknown format, not decodable, above the size limits).
+Expected<Image> read_image_from_memory(std::span<const unsigned char> bytes,
+                                       const std::string& mime_type, const std::string& name,
+                                       const ImageReadOptions& options = {});
 
 // The colour space the detection rules above give for an "oiio:ColorSpace"
 // value `name` ("" when the file has none), its "oiio:Gamma" (0 when none)

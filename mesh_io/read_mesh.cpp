@@ -265,19 +265,22 @@ Expected<LoadedMesh> read_mesh(const fs::path& path) {
     reader = read_detail::read_off;
   } else if (ext == ".stl") {
     reader = read_detail::read_stl;
-  } else {
-    return parse_error(path,
-                       "unknown mesh format '" + ext + "' (texbake reads .obj, .ply, .off, .stl)");
+  } else if (ext != ".glb" && ext != ".gltf") {
+    return parse_error(path, "unknown mesh format '" + ext +
+                                 "' (texbake reads .obj, .ply, .off, .stl, .glb, .gltf)");
   }
   Expected<std::string> bytes = read_file_bytes(path);
   if (!bytes) return bytes.error();
   if (bytes->empty()) return parse_error(path, "the file is empty");
-  Expected<MeshData> mesh = reader(path, *bytes);
+  std::size_t other_materials = 0;
+  Expected<MeshData> mesh =
+      reader ? reader(path, *bytes) : read_detail::read_gltf(path, *bytes, &other_materials);
   if (!mesh) return mesh.error();
   if (Status s = validate(path, *mesh); !s) return s.error();
   LoadedMesh out;
   out.mesh = std::move(*mesh);
   out.issues = triangulate_faces(out.mesh);
+  out.issues.other_material_primitives = other_materials;
   return out;
 }
 

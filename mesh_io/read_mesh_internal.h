@@ -8,6 +8,8 @@
 //   read_ply.cpp       PLY (parsed here);
 //   read_stl.cpp       STL (ASCII parsed here, binary checked here and parsed
 //                      by OpenMesh);
+//   read_gltf.cpp      glTF 2.0, .glb and .gltf (checked here, parsed by
+//                      tinygltf, its accessors read here);
 //   read_openmesh.cpp  the OpenMesh adapter: an importer into MeshData's
 //                      plain arrays;
 //   text_scan.h        the shared tokenizer, number parsing, line counting.
@@ -60,6 +62,10 @@ Expected<MeshData> read_obj(const std::filesystem::path& path, std::string_view 
 Expected<MeshData> read_off(const std::filesystem::path& path, std::string_view bytes);
 Expected<MeshData> read_ply(const std::filesystem::path& path, std::string_view bytes);
 Expected<MeshData> read_stl(const std::filesystem::path& path, std::string_view bytes);
+// .glb or .gltf by the extension of `path`; adds to *other_material_primitives
+// the triangle primitives whose material is not the first one's.
+Expected<MeshData> read_gltf(const std::filesystem::path& path, std::string_view bytes,
+                             std::size_t* other_material_primitives);
 
 // ---------------------------------------------------------------------------
 // The OpenMesh adapter (read_openmesh.cpp).

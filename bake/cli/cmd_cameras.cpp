@@ -68,7 +68,8 @@ RunFunction add_cameras_command(CLI::App& app) {
       "Per camera: the share of the mesh's vertices in front of it, inside its photo and "
       "visible from it, with a warning when a pose looks like a convention error "
       "(camera-to-world given as world-to-camera, OpenGL axes).");
-  check->add_option("mesh", args->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
+  check->add_option("mesh", args->mesh, "input mesh (.obj, .ply, .off, .stl, .glb, .gltf)")
+      ->required();
   check
       ->add_option("--cameras", args->cameras,
                    "a COLMAP sparse model folder or a JSON camera list (as bake --cameras)")

@@ -35,7 +35,8 @@ RunFunction add_fit_command(CLI::App& app) {
       "--center given: the radius encloses the mesh around it; likewise a cylinder's --base, a "
       "cone's --apex/--height, a plane's --origin); --up also fixes a cylinder's or cone's axis "
       "line, is the sphere's pole, and the hemisphere of a disk/quad/plane normal.");
-  cmd->add_option("MESH", opts->mesh, "Mesh file (.obj, .ply, .off, .stl)")->required();
+  cmd->add_option("MESH", opts->mesh, "Mesh file (.obj, .ply, .off, .stl, .glb, .gltf)")
+      ->required();
   add_geometry_flags(*cmd, opts->geometry);
   cmd->add_option("-o,--output", opts->output,
                   "Write the proxy JSON to this file (atomically) instead of stdout");

@@ -21,6 +21,7 @@
 #include "bake/cli/texture_flags.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/colmap_model.h"
+#include "mesh_io/mesh_texture.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -240,7 +241,7 @@ int run_render(const RenderArgs& args) {
   // vertex colours (--colors picks one), else grey.
   ColorSource source = GreySource{};
   Image texture;
-  const bool has_atlas = mesh.has_uvs() && !mesh.texture_path.empty();
+  const bool has_atlas = mesh.has_uvs() && mesh.has_texture();
   ColorChoice choice = args.colors;
   if (proxy || camera) {
     auto img = read_image(args.texture, {args.texture_colorspace});
@@ -278,10 +279,19 @@ int run_render(const RenderArgs& args) {
       return report_error(ErrorCode::kInvalidArgument,
                           "--colors atlas: '" + args.mesh + "' has no UVs with a texture");
     }
-    auto img = read_image(mesh.texture_path, {args.texture_colorspace});
+    // The file's own texture: an image file (OBJ map_Kd, a .gltf's URI) or
+    // one embedded in a .glb / .gltf (mesh_io/mesh_texture.h).
+    auto img = read_mesh_texture(mesh, {args.texture_colorspace});
     if (!img) return report_error(img.error());
-    warn_nonfinite(*img, mesh.texture_path);
-    warn_color_space(*img, mesh.texture_path);
+    const std::string name = mesh_texture_label(mesh);
+    warn_nonfinite(*img, name);
+    warn_color_space(*img, name);
+    if (loaded->issues.other_material_primitives > 0) {
+      std::cerr << "texbake: warning: " << args.mesh << ": "
+                << loaded->issues.other_material_primitives
+                << " primitives have another material than the first; they are drawn with its "
+                   "texture\n";
+    }
     texture = std::move(img).value();
     source = AtlasSource{texture.view()};
   } else if (choice == ColorChoice::kVertex) {
@@ -313,7 +323,8 @@ RunFunction add_render_command(CLI::App& app) {
       "Phong-shaded ray-traced preview of a mesh (Embree). Colours: --texture/--proxy (direct "
       "projection, the ground truth of a bake), else the mesh's atlas or vertex colours, else "
       "grey. Background pixels get alpha 0.");
-  cmd->add_option("MESH", args->mesh, "mesh file (OBJ, PLY, OFF, STL)")->required();
+  cmd->add_option("MESH", args->mesh, "mesh file (OBJ, PLY, OFF, STL, glTF .glb/.gltf)")
+      ->required();
   cmd->add_option("-o,--output", args->output,
                   "output image (PNG, or any format by extension; default: "
                   "<mesh name>_render.png in the current folder)");

@@ -74,6 +74,7 @@
 #include "mesh_io/image_compare.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/mesh_data.h"
+#include "mesh_io/mesh_texture.h"  // read_mesh_texture: an OBJ's map_Kd, a glTF's base colour
 #include "mesh_io/proxy_json.h"
 #include "mesh_io/read_mesh.h"
 

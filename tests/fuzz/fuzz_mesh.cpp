@@ -1,6 +1,8 @@
 // libFuzzer target for the mesh readers (SPEC section 8): the input is
 // written to a temporary file with the extension TEXBAKE_FUZZ_EXT (".obj",
-// ".ply", ".off" or ".stl"; one executable per format, see CMakeLists.txt)
+// ".ply", ".off", ".stl", ".glb" or ".gltf"; one executable per format, see
+// CMakeLists.txt; a .gltf's external buffers and images are looked for
+// beside the temporary file, so the seeds use data: URIs)
 // and read with read_mesh, the same entry point the CLI uses. read_mesh works
 // on paths (OpenMesh's readers open files themselves), hence the file.
 //
@@ -69,6 +71,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (uint32_t i : mesh.corner_normal)
       check(i < mesh.normals.size(), "normal index out of range");
     check(mesh.vertex_colors.empty() || mesh.vertex_colors.size() == nv, "vertex_colors size");
+    check(mesh.texture_path.empty() || mesh.texture_bytes.empty(), "two textures");
   } else {
     check(!m.error().message.empty(), "empty error message");
   }

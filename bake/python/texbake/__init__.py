@@ -85,7 +85,7 @@ def _mesh(args, rest, name):
 # ---- Reading ---------------------------------------------------------------
 
 def read_mesh(path):
-    """Read a mesh (.obj, .ply, .off, .stl) into a texbake.Mesh.
+    """Read a mesh (.obj, .ply, .off, .stl, .glb, .gltf) into a texbake.Mesh.
 
     The Mesh has `vertices` (n, 3) float64, `faces` (m, k) int64 (None when
     the polygons have different corner counts: see face_offsets and
