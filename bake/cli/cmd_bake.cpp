@@ -497,7 +497,7 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
       "--cameras, calibrated photos take the place of --texture and the proxy, for either "
       "target (--uv generate or mesh for the atlas).");
   o->command = cmd;
-  cmd->add_option("mesh", o->mesh, "input mesh (.obj, .ply, .off, .stl)")->required();
+  cmd->add_option("mesh", o->mesh, "input mesh (.obj, .ply, .off, .stl, .glb, .gltf)")->required();
   cmd->add_option("--texture", o->texture,
                   "image to bake (anything OpenImageIO reads); required unless --cameras");
   cmd->add_option("-o,--output", o->output,
