@@ -43,7 +43,7 @@ def test_usage_errors_are_valueerror(bunny, earth):
     sphere = texbake.Proxy.sphere()
     with pytest.raises(ValueError, match="--samples"):
         texbake.bake_vertex(bunny, earth, sphere, samples=0)
-    with pytest.raises(ValueError, match=r"filter: unknown value 'box' \(expected bilinear or area\)"):
+    with pytest.raises(ValueError, match=r"filter: unknown value 'box' \(expected bilinear, area or ewa\)"):
         texbake.bake_vertex(bunny, earth, sphere, filter="box")
     with pytest.raises(ValueError, match="--size"):
         texbake.bake_atlas(bunny, earth, sphere, size=0)
