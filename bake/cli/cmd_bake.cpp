@@ -181,19 +181,24 @@ GeometryFlags proxy_geometry(const GeometryFlags& flags, const fs::path& output)
 
 // bake --cameras: the photo flags against the projection flags and the
 // target's (exit 2), then bake/cli/photo_target.h.
-int run_bake_photos(const BakeCliOptions& o) {
-  const std::vector<std::string> projection =
-      given_flags(*o.command, {"--texture", "--proxy", "--proxy-file", "--filter", "--visibility",
-                               "--outside", "--wrap", "--linear"});
+// With `camera` (a camera --proxy-file): the one photo --texture through
+// that camera, seen up to 90 degrees (SPEC section 9's camera proxy).
+int run_bake_photos(const BakeCliOptions& o, const CameraProjector* camera = nullptr) {
+  const std::string what = camera ? "a camera --proxy-file" : "--cameras";
+  std::vector<std::string> names = {"--filter", "--visibility", "--outside", "--wrap", "--linear"};
+  if (!camera) names.insert(names.end(), {"--texture", "--proxy", "--proxy-file"});
+  const std::vector<std::string> projection = given_flags(*o.command, names);
   if (!projection.empty()) {
     return report_error(ErrorCode::kInvalidArgument,
-                        projection.front() +
-                            " does not apply to --cameras (the photos and their "
-                            "cameras are the projection)");
+                        projection.front() + " does not apply to " + what +
+                            (camera ? " (the photo is sampled bilinearly through the lens "
+                                      "model, in linear light, visible along the segment to "
+                                      "the camera)"
+                                    : " (the photos and their cameras are the projection)"));
   }
   for (const std::string& flag : given_geometry_flags(o.geometry)) {
     if (flag == "--up") continue;  // a .glb's node matrix
-    return report_error(ErrorCode::kInvalidArgument, flag + " does not apply to --cameras");
+    return report_error(ErrorCode::kInvalidArgument, flag + " does not apply to " + what);
   }
   Expected<BakeTarget> target = resolve_target(o.atlas, o.output);
   if (!target) return report_error(target.error());
@@ -204,8 +209,8 @@ int run_bake_photos(const BakeCliOptions& o) {
         given_flags(*o.command, {"--samples", "--size", "--padding", "--uv", "--format"});
     if (!atlas_only.empty()) {
       return report_error(ErrorCode::kInvalidArgument,
-                          atlas_only.front() + " applies to --target atlas only with --cameras " +
-                              "(this bake's target is vertex, writing " + o.output + ")");
+                          atlas_only.front() + " applies to --target atlas only with " + what +
+                              " (this bake's target is vertex, writing " + o.output + ")");
     }
   } else if (given_flags(*o.command, {"--ascii"}).size() > 0) {
     return report_error(ErrorCode::kInvalidArgument,
@@ -218,6 +223,14 @@ int run_bake_photos(const BakeCliOptions& o) {
   job.output = o.output;
   job.report = o.report;
   job.flags = o.photos;
+  if (camera) {
+    job.flags.cameras = o.geometry.proxy_file->string();
+    job.single = Photo{fs::path(o.texture).filename().string(), *camera, o.texture};
+    job.flags.exposure = ExposureMode::kNone;  // one photo: nothing to balance
+    job.color_space = o.texture_colorspace;
+  } else if (given_flags(*o.command, {"--texture-colorspace"}).size() > 0) {
+    job.color_space = o.texture_colorspace;
+  }
   if (o.occluded.keyword.empty()) {
     job.occluded = OccludedMode::kColor;
     job.occluded_color = o.occluded.color;
@@ -228,9 +241,9 @@ int run_bake_photos(const BakeCliOptions& o) {
   job.atlas = atlas;
   if (atlas) {
     if (o.atlas.uv == UvLayout::kProxy) {
-      return report_error(ErrorCode::kInvalidArgument,
-                          "--uv proxy needs a proxy, and --cameras has none (use --uv generate "
-                          "or --uv mesh)");
+      return report_error(ErrorCode::kInvalidArgument, "--uv proxy needs a proxy, and " + what +
+                                                           (camera ? " is a camera" : " has none") +
+                                                           " (use --uv generate or --uv mesh)");
     }
     Expected<AtlasOptions> a = atlas_options(o.atlas, o.samples, VertexBakeOptions{}, o.output);
     if (!a) return report_error(a.error());
@@ -304,6 +317,15 @@ int run_bake(const BakeCliOptions& o) {
   // ---- Usage checks (exit 2), before touching any file. ----
   if (Status s = check_geometry_flags(geometry, /*require_proxy=*/true); !s) {
     return report_error(s.error());
+  }
+  // A camera --proxy-file (SPEC section 9) bakes its photo like --cameras
+  // with one photo.
+  if (geometry.proxy_file) {
+    Expected<Projector> projector = projector_from_flags(geometry);
+    if (!projector) return report_error(projector.error());
+    if (const CameraProjector* camera = as_camera(*projector)) {
+      return run_bake_photos(o, camera);
+    }
   }
   const fs::path output = o.output;
   Expected<BakeTarget> target = resolve_target(o.atlas, output);

@@ -36,6 +36,24 @@ nlohmann::ordered_json cameras_json(const std::vector<PhotoCameraStats>& cameras
   return cams;
 }
 
+// The report's "inputs": the cameras and photos folder, or for a camera
+// --proxy-file its file and --texture.
+nlohmann::ordered_json photo_inputs(const PhotoJob& job) {
+  nlohmann::ordered_json in = {{"mesh", job.mesh}};
+  if (job.single) {
+    in["proxy_file"] = job.flags.cameras;
+    in["texture"] = job.single->path.string();
+  } else {
+    in["cameras"] = job.flags.cameras;
+    in["images"] = job.flags.images;
+  }
+  in["output"] = job.output;
+  in["options"] = {{"blend", blend_name(job.flags.blend)},
+                   {"exposure", job.flags.exposure == ExposureMode::kNone ? "none" : "gain"},
+                   {"threads", job.threads}};
+  return in;
+}
+
 // The atlas photo bake's --report: inputs, counts (atlas samples), the
 // "atlas" object of the proxy atlas's report, one entry per camera (in_view
 // and visible count atlas samples), timings.
@@ -44,14 +62,7 @@ std::string photo_atlas_report(const PhotoJob& job, const PhotoAtlas& baked, dou
   nlohmann::ordered_json j;
   j["command"] = "bake";
   j["target"] = "atlas";
-  j["inputs"] = {{"mesh", job.mesh},
-                 {"cameras", job.flags.cameras},
-                 {"images", job.flags.images},
-                 {"output", job.output},
-                 {"options",
-                  {{"blend", blend_name(job.flags.blend)},
-                   {"exposure", job.flags.exposure == ExposureMode::kNone ? "none" : "gain"},
-                   {"threads", job.threads}}}};
+  j["inputs"] = photo_inputs(job);
   const Stats& st = baked.atlas.stats;
   const Counts& c = st.counts;
   j["counts"] = {{"vertices", c.vertices},
@@ -83,14 +94,7 @@ std::string photo_report(const PhotoJob& job, const PhotoColors& baked, double l
   nlohmann::ordered_json j;
   j["command"] = "bake";
   j["target"] = "vertex";
-  j["inputs"] = {{"mesh", job.mesh},
-                 {"cameras", job.flags.cameras},
-                 {"images", job.flags.images},
-                 {"output", job.output},
-                 {"options",
-                  {{"blend", blend_name(job.flags.blend)},
-                   {"exposure", job.flags.exposure == ExposureMode::kNone ? "none" : "gain"},
-                   {"threads", job.threads}}}};
+  j["inputs"] = photo_inputs(job);
   const Counts& c = baked.stats.counts;
   j["counts"] = {{"vertices", c.vertices},      {"triangles", c.triangles},
                  {"camera_samples", c.samples}, {"unseen", c.occluded},
@@ -144,7 +148,13 @@ int check_outputs(const PhotoJob& job) {
   std::vector<fs::path> outputs{output};
   if (job.atlas) outputs = atlas_files(output, job.write);
   {
-    const std::vector<NamedFile> read{{"MESH", job.mesh}, {"--cameras", job.flags.cameras}};
+    std::vector<NamedFile> read{{"MESH", job.mesh}};
+    if (job.single) {
+      read.push_back({"--proxy-file", job.flags.cameras});
+      read.push_back({"--texture", job.single->path});
+    } else {
+      read.push_back({"--cameras", job.flags.cameras});
+    }
     std::vector<NamedFile> written{{"-o", output}};
     if (outputs.size() == 3) {
       written.push_back({"the material of -o", outputs[1]});
@@ -168,7 +178,9 @@ int run_photo_bake(const PhotoJob& job) {
   if (Status s = validate_write(output, job.write, job.atlas); !s) return report_error(s.error());
   if (int code = check_outputs(job); code != 0) return code;
   auto stage = Clock::now();
-  Expected<std::vector<Photo>> photos = read_cameras(job.flags.cameras, job.flags.images);
+  Expected<std::vector<Photo>> photos =
+      job.single ? Expected<std::vector<Photo>>(std::vector<Photo>{*job.single})
+                 : read_cameras(job.flags.cameras, job.flags.images);
   if (!photos) return report_error(photos.error());
   Expected<LoadedMesh> mesh = read_mesh(job.mesh);
   if (!mesh) return report_error(mesh.error());
@@ -183,6 +195,8 @@ int run_photo_bake(const PhotoJob& job) {
   options.exposure = job.flags.exposure.value_or(ExposureMode::kGain);
   options.occluded = job.occluded;
   options.occluded_color = job.occluded_color;
+  options.color_space = job.color_space;
+  if (job.single) options.max_view_angle_deg = 90;
   ProgressBar bar(!job.quiet && ProgressBar::stderr_is_terminal());
   RunOptions run;
   run.threads = job.threads;

@@ -36,6 +36,11 @@ struct PhotoJob {
   int threads = 0;
   bool quiet = false;
   std::function<void(const std::string&)> on_report;  // CliHooks::on_report (batch results)
+  // A camera --proxy-file with its --texture: this one photo instead of
+  // flags.cameras (which then names the camera file, for messages and the
+  // report), seen up to 90 degrees (SPEC section 9's camera proxy rule).
+  std::optional<Photo> single;
+  TextureColorSpace color_space = TextureColorSpace::kAuto;  // --texture-colorspace
 };
 
 // Checks (exit 2 for usage), reads the cameras and the mesh, bakes, writes

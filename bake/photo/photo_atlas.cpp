@@ -147,7 +147,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   if (po.blend == PhotoBlend::kBest) best.assign(ns, 0);
   std::vector<std::vector<uint64_t>> seen_by(photos.size());
   for (std::size_t c = 0; c < photos.size(); ++c) {
-    const CameraLook look(photos[c].camera);
+    const CameraLook look(photos[c].camera, po.max_view_angle_deg);
     std::vector<uint64_t>& bits = seen_by[c];
     bits.assign(words, 0);
     std::vector<std::size_t> in_view(blocks, 0), visible(blocks, 0);
@@ -200,7 +200,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     for (std::size_t s = 0; s < ns; ++s) total[s] = q_max[s] > 0 ? 1.f : 0.f;
   } else if (po.blend == PhotoBlend::kSoft) {
     for (std::size_t c = 0; c < photos.size(); ++c) {
-      const CameraLook look(photos[c].camera);
+      const CameraLook look(photos[c].camera, po.max_view_angle_deg);
       const std::vector<uint64_t>& bits = seen_by[c];
       parallel_for_blocks(ns, kBlock, [&](std::size_t, std::size_t begin, std::size_t end) {
         for_each_seen(bits, begin, end, [&](std::size_t s) {
@@ -223,7 +223,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
         photo_detail::load_photo(photo, read, scratch_stats, scratch_warnings);
     if (!image) return image.error();
     const ImageView view{image->width, image->height, image->pixels.data()};
-    const CameraLook look(photo.camera);
+    const CameraLook look(photo.camera, po.max_view_angle_deg);
     const std::vector<uint64_t>& bits = seen_by[c];
     const std::array<double, 3> gain = result.cameras[c].gain;
     std::vector<double> share(blocks, 0.0);

@@ -124,7 +124,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     Expected<PhotoImage> image = photo_detail::load_photo(photo, read, stats, result.warnings);
     if (!image) return image.error();
     const ImageView view{image->width, image->height, image->pixels.data()};
-    const CameraLook look(camera);
+    const CameraLook look(camera, options.max_view_angle_deg);
     const Vec3 centre = look.centre();
     std::vector<std::size_t> in_view_chunk(block_count(n, kGrain), 0),
         visible_chunk(in_view_chunk.size(), 0);

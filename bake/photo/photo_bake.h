@@ -41,6 +41,7 @@
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/sample.h"
+#include "mesh_io/image_io.h"
 #include "mesh_io/mesh_data.h"
 
 namespace texbake {
@@ -61,6 +62,13 @@ struct PhotoBakeOptions {
   OccludedMode occluded =
       OccludedMode::kFill;          // for vertices no photo sees (kProject acts as kFill)
   Rgba occluded_color{0, 0, 0, 1};  // sRGB-encoded, with OccludedMode::kColor
+  // The largest angle (degrees, in (0, 90]) between a point's normal and the
+  // direction to a camera at which the camera still sees it: SPEC section
+  // 9's 75 for several photos; 90 for one camera given as a proxy (a point
+  // is then seen unless it faces away).
+  double max_view_angle_deg = 75;
+  // How the photos' colour space is taken (--texture-colorspace).
+  TextureColorSpace color_space = TextureColorSpace::kAuto;
 };
 
 struct PhotoCameraStats {

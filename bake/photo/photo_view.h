@@ -16,7 +16,6 @@
 
 namespace texbake::photo_detail {
 
-inline const double kMinCosine = std::cos(75.0 * std::numbers::pi / 180.0);  // theta > 75: unseen
 inline constexpr double kBorderFraction = 0.05;  // border weight reaches 1 at 5 % of min(W, H)
 inline constexpr double kSoftTemperature = 0.1;  // --blend soft: exp(-(1 - q / q_max) / 0.1)
 
@@ -37,8 +36,10 @@ double border_weight(Vec2 pixel, int w, int h);
 // One camera's view of surface points.
 class CameraLook {
  public:
-  explicit CameraLook(const CameraProjector& camera)
+  // max_angle_deg: PhotoBakeOptions::max_view_angle_deg.
+  CameraLook(const CameraProjector& camera, double max_angle_deg)
       : camera_(&camera),
+        min_cosine_(std::cos(max_angle_deg * std::numbers::pi / 180.0)),
         centre_(camera.centre()),
         w_(camera.spec().width),
         h_(camera.spec().height),
@@ -47,14 +48,15 @@ class CameraLook {
   Vec3 centre() const { return centre_; }
 
   // The point p with the unit normal n is a candidate: it projects inside
-  // the photo, in front of the camera, with n within 75 degrees of
-  // d = normalize(C - p) (a zero n never is). Sets proj.
+  // the photo, in front of the camera, with n within the maximum angle
+  // (75 degrees by default) of d = normalize(C - p), strictly (a zero n
+  // never is). Sets proj.
   bool candidate(Vec3 p, Vec3 n, CameraProjection& proj) const {
     proj = camera_->project(p);
     if (!proj.inside) return false;
     const Vec3 to_camera = centre_ - p;
     const double distance = length(to_camera);
-    return distance > 0 && dot(n, to_camera) > kMinCosine * distance;
+    return distance > 0 && dot(n, to_camera) > min_cosine_ * distance;
   }
 
   // The quality of a visible candidate, as stored (float, at least 1e-30
@@ -68,6 +70,7 @@ class CameraLook {
 
  private:
   const CameraProjector* camera_;
+  double min_cosine_;
   Vec3 centre_;
   int w_, h_;
   double focal2_;

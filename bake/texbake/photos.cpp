@@ -32,14 +32,15 @@ fs::path workspace_images(const fs::path& model) {
   return {};
 }
 
-// The API's photo reader: mesh_io's read_image, advancing `progress` by one
+// The API's photo reader: mesh_io's read_image (with the colour space rule
+// `cs`, --texture-colorspace), advancing `progress` by one
 // per photo read after the first and cancelling when asked.
-PhotoReader progress_reader(Progress& progress, std::size_t& done) {
-  return [&progress, &done](const Photo& photo) -> Expected<PhotoImage> {
+PhotoReader progress_reader(Progress& progress, std::size_t& done, TextureColorSpace cs) {
+  return [&progress, &done, cs](const Photo& photo) -> Expected<PhotoImage> {
     if (done > 0) progress.advance(1);
     ++done;
     if (progress.cancelled()) return cancelled_error();
-    Expected<Image> image = read_image(photo.path);
+    Expected<Image> image = read_image(photo.path, {cs});
     if (!image) return image.error();
     return PhotoImage{image->width, image->height, std::move(image->pixels), image->color_space};
   };
@@ -96,7 +97,7 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
   return detail::run_call<PhotoColors>(run, [&]() -> Expected<PhotoColors> {
     progress.start("photos", photos.size());
     std::size_t done = 0;
-    const PhotoReader reader = progress_reader(progress, done);
+    const PhotoReader reader = progress_reader(progress, done, options.color_space);
     Expected<PhotoBakeResult> baked = bake_vertex_from_photos(mesh, photos, options, reader);
     if (progress.cancelled()) return cancelled_error();
     if (!baked) return detail::as_input(baked.error());
@@ -150,8 +151,8 @@ Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
     o.samples = atlas.bake.samples;
     o.padding = atlas.bake.padding;
     o.photo = options;
-    Expected<PhotoAtlasBakeResult> baked =
-        bake_atlas_from_photos(out.atlas.mesh, photos, o, progress_reader(progress, done));
+    Expected<PhotoAtlasBakeResult> baked = bake_atlas_from_photos(
+        out.atlas.mesh, photos, o, progress_reader(progress, done, options.color_space));
     if (progress.cancelled()) return cancelled_error();
     if (!baked) return detail::as_input(baked.error());
     progress.finish();

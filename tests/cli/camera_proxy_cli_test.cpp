@@ -16,6 +16,7 @@
 
 #include "mesh_io/colmap_model.h"
 #include "mesh_io/image_io.h"
+#include "mesh_io/read_mesh.h"
 #include "tests/cli/run_texbake.h"
 
 namespace texbake {
@@ -288,6 +289,70 @@ TEST_F(CameraProxyPhotos, TruncatedBinaryModelAndSkewRotationAreErrorsWithNoOutp
   EXPECT_NE(r.err.find("skew.json: cameras[0]"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("orthonormal"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "skew.ply"));
+}
+
+TEST_F(CameraProxyPhotos, BakingOnePhotoThroughItsCameraFile) {
+  // bake --proxy-file CAMERA --texture PHOTO is bake --cameras with that one
+  // photo, except that the camera proxy sees up to 90 degrees (SPEC section
+  // 9: only surfaces facing away are unseen) where several photos stop at 75.
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  const fs::path photo = d / "ws/images/view_02.png";
+  nlohmann::json cam = nlohmann::json::parse(testing_cli::slurp(d / "view_02.json"));
+  cam["image"] = "view_02.png";
+  nlohmann::json list;
+  list["cameras"] = nlohmann::json::array({cam});
+  write_file(d / "one.json", list.dump());
+  testing_cli::RunResult r = run_texbake(
+      "bake " + bunny + " --proxy-file " + q(d / "view_02.json") + " --texture " + q(photo) +
+      " --occluded 1,0,1 -q --report " + q(d / "single.json") + " -o " + q(d / "single.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_texbake("bake " + bunny + " --cameras " + q(d / "one.json") + " --images " +
+                  q(d / "ws/images") + " --occluded 1,0,1 -q -o " + q(d / "list.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Expected<LoadedMesh> single = read_mesh(d / "single.ply"), listed = read_mesh(d / "list.ply");
+  ASSERT_TRUE(single && listed);
+  auto magenta = [](const std::array<float, 4>& c) { return c[0] == 1 && c[1] == 0 && c[2] == 1; };
+  std::size_t both = 0, only_single = 0;
+  for (std::size_t v = 0; v < single->mesh.vertex_colors.size(); ++v) {
+    const auto& a = single->mesh.vertex_colors[v];
+    const auto& b = listed->mesh.vertex_colors[v];
+    if (!magenta(b)) {
+      ASSERT_FALSE(magenta(a)) << "vertex " << v;  // what 75 degrees sees, 90 sees
+      EXPECT_EQ(a, b) << "vertex " << v;           // through the same lens, the same sample
+      ++both;
+    } else if (!magenta(a)) {
+      ++only_single;  // seen between 75 and 90 degrees
+    }
+  }
+  EXPECT_GT(both, 5000u);
+  EXPECT_GT(only_single, 100u);
+  const std::string report = testing_cli::slurp(d / "single.json");
+  EXPECT_NE(report.find("\"proxy_file\""), std::string::npos) << report;
+  EXPECT_NE(report.find("\"visible\": " + std::to_string(both + only_single)), std::string::npos)
+      << report;
+
+  // The atlas target through the same camera: an OBJ + MTL + PNG set.
+  r = run_texbake("bake " + bunny + " --proxy-file " + q(d / "view_02.json") + " --texture " +
+                  q(photo) + " --target atlas --uv generate --size 256 -q -o " +
+                  q(d / "single_atlas.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "single_atlas.png"));
+
+  // Flags of the analytic projection do not apply (exit 2, no output).
+  for (const std::string flag : {"--filter bilinear", "--visibility all", "--linear",
+                                 "--outside 1,0,0", "--blend best", "--radius 2"}) {
+    r = run_texbake("bake " + bunny + " --proxy-file " + q(d / "view_02.json") + " --texture " +
+                    q(photo) + " " + flag + " -o " + q(d / "flag.ply"));
+    EXPECT_EQ(r.exit_code, 2) << flag << ": " << r.err;
+    EXPECT_FALSE(fs::exists(d / "flag.ply")) << flag;
+  }
+  // A photo of another aspect is an error naming it.
+  r = run_texbake("bake " + bunny + " --proxy-file " + q(d / "view_02.json") + " --texture " +
+                  q(kData + "/earth.jpg") + " -o " + q(d / "wrong.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("earth.jpg"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "wrong.ply"));
 }
 
 }  // namespace
