@@ -113,11 +113,38 @@ demo_photos() {
   echo
 }
 
+demo_layers() {
+  # Layers (SPEC section 10, README "Layers"): a bottle with its own green
+  # vertex colours (data/bottle.ply) gets a label with transparent rounded
+  # corners (data/label.png) wrapped around it through a cylinder proxy, and
+  # the Earth map as a small decal on its shoulder through a plane proxy
+  # that fades out towards grazing angles; composited in linear light over
+  # the mesh's colours (data/bottle_layers.json; both inputs were made by
+  # scripts/make_layers_data.py).
+  local data="$TEXBAKE_ROOT/data"
+  local out="$TEXBAKE_ROOT/out"
+  mkdir -p "$out"
+  echo "== Layers: a label and a decal over a bottle's own colours (bake --layers) =="
+  local bake=(bake "$data/bottle.ply" --layers "$data/bottle_layers.json"
+              -o "$out/bottle_layers.ply" --report "$out/bottle_layers.json")
+  echo "\$ texbake ${bake[*]}"
+  "$texbake" "${bake[@]}"
+  local preview=(render "$out/bottle_layers.ply" --up y --views 4 --size 512x512
+                 -o "$out/bottle_layers_preview.png")
+  echo "\$ texbake ${preview[*]}"
+  "$texbake" "${preview[@]}"
+  echo "   wrote $out/bottle_layers.ply (vertex colours), $out/bottle_layers.json (per layer:"
+  echo "         samples in its domain, visible, blended, mean alpha)"
+  echo "   and   $out/bottle_layers_preview.png"
+  echo
+}
+
 demo_worked_example
 demo_bake_earth_bunny
 demo_bake_atlas_bunny
 demo_render_previews
 demo_photos
+demo_layers
 demo_t3=$SECONDS
-echo "== Done: outputs in $TEXBAKE_ROOT/out; look at out/bunny_earth_preview.png, out/bunny_atlas_preview.png and out/bunny_photos_preview.png first =="
+echo "== Done: outputs in $TEXBAKE_ROOT/out; look at out/bunny_earth_preview.png, out/bunny_atlas_preview.png, out/bunny_photos_preview.png and out/bottle_layers_preview.png first =="
 echo "   set-up $((demo_t1 - demo_t0)) s, build $((demo_t2 - demo_t1)) s, demo $((demo_t3 - demo_t2)) s"
