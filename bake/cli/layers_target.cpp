@@ -8,6 +8,7 @@
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
 #include "bake/cli/progress_bar.h"
+#include "bake/cli/report.h"
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
 
@@ -46,16 +47,6 @@ std::string layers_report(const LayersJob& job, const LayerColors& baked, double
                   {"layers", t.bake}, {"fill", t.fill},
                   {"write", write},   {"total", total}};
   return j.dump(2) + "\n";
-}
-
-Status write_text(const fs::path& path, const std::string& text) {
-  return write_atomically(path, [&](const fs::path& temp) -> Status {
-    std::ofstream out(temp, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) return make_error(ErrorCode::kIo, "cannot write report " + path.string());
-    return ok_status();
-  });
 }
 
 }  // namespace
@@ -111,7 +102,7 @@ int run_layers_bake(const LayersJob& job) {
   const double total = seconds_since(start);
   const std::string report = layers_report(job, *baked, load, write, total);
   if (!job.report.empty()) {
-    if (Status s = write_text(job.report, report); !s) return report_error(s.error());
+    if (Status s = write_report_text(job.report, report); !s) return report_error(s.error());
   }
   if (job.on_report) job.on_report(report);
   if (!job.quiet) {

@@ -107,16 +107,6 @@ std::string photo_report(const PhotoJob& job, const PhotoColors& baked, double l
   return j.dump(2) + "\n";
 }
 
-Status write_text(const fs::path& path, const std::string& text) {
-  return write_atomically(path, [&](const fs::path& temp) -> Status {
-    std::ofstream out(temp, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) return make_error(ErrorCode::kIo, "cannot write report " + path.string());
-    return ok_status();
-  });
-}
-
 }  // namespace
 
 void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
@@ -214,7 +204,7 @@ int run_photo_bake(const PhotoJob& job) {
     const double total = seconds_since(start);
     const std::string report = photo_atlas_report(job, *baked, load, write, total);
     if (!job.report.empty()) {
-      if (Status s = write_text(job.report, report); !s) return report_error(s.error());
+      if (Status s = write_report_text(job.report, report); !s) return report_error(s.error());
     }
     if (job.on_report) job.on_report(report);
     if (!job.quiet) {
@@ -245,7 +235,7 @@ int run_photo_bake(const PhotoJob& job) {
   const double total = seconds_since(start);
   const std::string report = photo_report(job, *baked, load, write, total);
   if (!job.report.empty()) {
-    if (Status s = write_text(job.report, report); !s) return report_error(s.error());
+    if (Status s = write_report_text(job.report, report); !s) return report_error(s.error());
   }
   if (job.on_report) job.on_report(report);
   if (!job.quiet) {

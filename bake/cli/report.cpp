@@ -150,7 +150,10 @@ std::string report_json(const BakeReport& r) {
 }
 
 Status write_report(const std::filesystem::path& path, const BakeReport& report) {
-  const std::string text = report_json(report);
+  return write_report_text(path, report_json(report));
+}
+
+Status write_report_text(const std::filesystem::path& path, const std::string& text) {
   return write_atomically(path, [&](const std::filesystem::path& temp) -> Status {
     std::ofstream out(temp, std::ios::binary);
     out << text;

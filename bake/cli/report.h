@@ -79,5 +79,7 @@ std::string report_json(const BakeReport& report);
 
 // Writes report_json(report) to path through write_atomically. Errors: kIo naming path.
 Status write_report(const std::filesystem::path& path, const BakeReport& report);
+// The same for a report's text made elsewhere (the photo and layers bakes).
+Status write_report_text(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace texbake::cli

@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 using testing_cli::run_texbake;
 
 std::string q(const fs::path& p) {
-  return testing_cli::shell_quote(p.string());
+  return testing_cli::quoted(p);
 }
 
 const std::string kData = TEXBAKE_DATA_DIR;

@@ -27,6 +27,11 @@ inline std::string shell_quote(const std::string& s) {
   return q + "'";
 }
 
+// A path quoted for the shell.
+inline std::string quoted(const std::filesystem::path& p) {
+  return shell_quote(p.string());
+}
+
 // The whole content of a file, bytes as they are ("" if it cannot be read).
 inline std::string slurp(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
