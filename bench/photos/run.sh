@@ -88,8 +88,8 @@ timed_bake() { # mesh target output report
 }
 
 echo
-echo "| mesh | target | total s | load | scene | photos | fill | write | peak MB |"
-echo "|---|---|---|---|---|---|---|---|---|"
+echo "| mesh | target | total s | stages (s, from the report) | peak MB |"
+echo "|---|---|---|---|---|"
 for mesh in bunny.off armadillo_832k.ply; do
   for target in vertex atlas; do
     [ "$targets" = all ] || [ "$targets" = "$target" ] || continue
@@ -106,10 +106,8 @@ mesh, target, runs = sys.argv[1], sys.argv[2], [l.split() for l in open(sys.argv
 runs.sort(key=lambda r: float(r[0]))
 mid = runs[len(runs) // 2]
 t = json.load(open(mid[2]))["timings"]
-get = lambda *keys: next((t[k] for k in keys if k in t), float("nan"))
-print(f"| {mesh} | {target} | {float(mid[0]):.2f} | {get('load'):.2f} | {get('scene_build'):.2f} | "
-      f"{get('photos', 'bake', 'sample'):.2f} | {get('fill'):.2f} | {get('write'):.2f} | "
-      f"{max(int(r[1]) for r in runs)} |")
+stages = ", ".join(f"{k} {v:.2f}" for k, v in t.items() if k != "total")
+print(f"| {mesh} | {target} | {float(mid[0]):.2f} | {stages} | {max(int(r[1]) for r in runs)} |")
 PY
   done
 done
