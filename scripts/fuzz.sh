@@ -16,7 +16,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
 texbake_install_packages "${texbake_build_packages[@]}" "${texbake_test_packages[@]}"
 
 TEXBAKE_FUZZ_BUILD=${TEXBAKE_FUZZ_BUILD:-$TEXBAKE_ROOT/build-fuzz}
-texbake_fuzz_targets=(fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_off fuzz_mesh_stl fuzz_mesh_glb fuzz_mesh_gltf fuzz_proxy_json fuzz_cli)
+texbake_fuzz_targets=(fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_off fuzz_mesh_stl fuzz_mesh_glb fuzz_mesh_gltf fuzz_proxy_json fuzz_layers_json fuzz_cli)
 
 # Largest input per target: a few hundred lines of a mesh, a JSON object, a
 # command line.
@@ -24,6 +24,7 @@ fuzz_max_len() {
   case "$1" in
     fuzz_mesh_*) echo 4096 ;;
     fuzz_proxy_json) echo 1024 ;;
+    fuzz_layers_json) echo 2048 ;;
     fuzz_cli) echo 512 ;;
   esac
 }

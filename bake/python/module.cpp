@@ -685,6 +685,51 @@ PYBIND11_MODULE(_texbake, m) {
     return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats));
   });
 
+  m.def("bake_vertex_from_photos", [](const LoadedMesh& mesh, const std::filesystem::path& cameras,
+                                      const std::filesystem::path& images, const std::string& blend,
+                                      const std::string& exposure, py::object occluded,
+                                      const std::string& colorspace, int threads,
+                                      py::object progress) {
+    PhotoBakeOptions o;
+    o.blend = choice<PhotoBlend>(
+        blend, "blend",
+        {{"soft", PhotoBlend::kSoft}, {"best", PhotoBlend::kBest}, {"mean", PhotoBlend::kMean}});
+    o.exposure = choice<ExposureMode>(
+        exposure, "exposure", {{"gain", ExposureMode::kGain}, {"none", ExposureMode::kNone}});
+    if (py::isinstance<py::str>(occluded)) {
+      o.occluded = choice<OccludedMode>(occluded.cast<std::string>(), "occluded",
+                                        {{"fill", OccludedMode::kFill}});
+    } else {
+      o.occluded = OccludedMode::kColor;
+      o.occluded_color = color_arg(occluded, "occluded");
+    }
+    o.color_space = choice<TextureColorSpace>(colorspace, "colorspace",
+                                              {{"auto", TextureColorSpace::kAuto},
+                                               {"srgb", TextureColorSpace::kSrgb},
+                                               {"linear", TextureColorSpace::kLinear}});
+    const std::vector<Photo> photos = check(read_cameras(cameras, images));
+    PyRun run(threads, std::move(progress));
+    PhotoColors baked = run_released<PhotoColors>(run, [&](const RunOptions& r) {
+      return bake_vertex_colors_from_photos(mesh.mesh, photos, o, r);
+    });
+    std::vector<float> flat;
+    flat.reserve(baked.colors.size() * 4);
+    for (const Rgba& c : baked.colors) flat.insert(flat.end(), c.begin(), c.end());
+    py::list per_camera;
+    for (const PhotoCameraStats& c : baked.cameras) {
+      py::dict d;
+      d["image"] = c.name;
+      d["photo"] = py::make_tuple(c.photo_width, c.photo_height);
+      d["in_view"] = c.in_view;
+      d["visible"] = c.visible;
+      d["weight_share"] = c.weight_share;
+      d["gain"] = py::make_tuple(c.gain[0], c.gain[1], c.gain[2]);
+      per_camera.append(d);
+    }
+    const auto n = static_cast<py::ssize_t>(baked.colors.size());
+    return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats), per_camera);
+  });
+
   py::class_<Atlas>(m, "Atlas",
                     "An atlas bake (texbake.bake_atlas): image (N, N, 4) float32, mesh (with "
                     "the per-corner UVs baked against), uvs, face_uvs, stats, uv_layout, "

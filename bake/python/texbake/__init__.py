@@ -47,7 +47,8 @@ __all__ = [
     "ImageArray",
     "image",
     "Atlas", "Cancelled", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
-    "bake_vertex", "compare", "fit", "map", "read_image", "read_mesh", "render",
+    "bake_vertex", "bake_vertex_from_photos", "compare", "fit", "map", "read_image", "read_mesh",
+    "render",
     "write_atlas", "write_image", "write_vertex_colors",
 ]
 
@@ -266,6 +267,26 @@ def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first"
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_vertex")
     return _texbake.bake_vertex(mesh, image, proxy._native, filter, samples, visibility,
                                 occluded, outside, linear, wrap, threads, progress)
+
+
+def bake_vertex_from_photos(*mesh, cameras, images=None, blend="soft", exposure="gain",
+                            occluded="fill", colorspace="auto", threads=0, progress=None):
+    """bake_vertex_from_photos(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
+    one colour per vertex from calibrated photographs (`texbake bake MESH --cameras PATH`).
+
+    cameras: a COLMAP sparse model folder (cameras + images, .txt or .bin) or
+    a JSON camera list; images: the photos' folder (default: a COLMAP
+    workspace's images/ beside sparse/, or the list's folder). blend 'soft' |
+    'best' | 'mean'; exposure 'gain' | 'none'; occluded 'fill' | (r, g, b[, a]);
+    colorspace 'auto' | 'srgb' | 'linear' (the photos'). Returns (colors (n, 4)
+    float32, stats dict, cameras: a list of dicts per photo with image, photo
+    (w, h), in_view, visible, weight_share, gain (r, g, b)). Progress stage:
+    'photos'.
+    """
+    mesh = _mesh(mesh, 0, "bake_vertex_from_photos")[0]
+    return _texbake.bake_vertex_from_photos(mesh, str(cameras), "" if images is None else str(images),
+                                            blend, exposure, occluded, colorspace, threads,
+                                            progress)
 
 
 def bake_atlas(*mesh_image_proxy, uv="auto", size=2048, samples=4, padding=None,
