@@ -2,7 +2,8 @@
 //   [--skip-existing] [--threads N] [-q]        (SPEC section 12, issue #15)
 //
 // One `texbake bake` job a line: a JSON object with the command line's keys
-// by their long names ("mesh", "texture", "proxy" | "proxy_file", "output",
+// by their long names ("mesh", "texture", "proxy" | "proxy_file" | "cameras"
+// (+ "images") | "layers", "output",
 // "center": [0, 0, 0], "samples": 4, "linear": true, ...). Each job is
 // translated into the argv of the single command (job_argv) and run by a
 // fresh CLI11 app of make_cli_app in this process, so options are parsed,
@@ -39,6 +40,7 @@
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/regular_file.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 
@@ -139,7 +141,8 @@ std::string string_key(const ordered_json& job, const char* key) {
 }
 
 // The files the job reads and writes, as `texbake bake` would: MESH,
-// --texture, --proxy-file; -o (with an atlas OBJ's MTL and image, by
+// --texture, --proxy-file, --layers (and its images), --cameras (and its
+// photos); -o (with an atlas OBJ's MTL and image, by
 // resolve_target and atlas_files) and --report.
 struct JobFiles {
   std::vector<fs::path> inputs, outputs;
@@ -147,8 +150,33 @@ struct JobFiles {
 
 JobFiles job_files(const ordered_json& job) {
   JobFiles f;
-  for (const char* key : {"mesh", "texture", "proxy_file"}) {
+  for (const char* key : {"mesh", "texture", "proxy_file", "layers"}) {
     if (std::string p = string_key(job, key); !p.empty()) f.inputs.push_back(p);
+  }
+  // A layers file's images, and the photos of --cameras (and the model's
+  // files: a folder's own time does not change when a file in it does).
+  // When they cannot be read the job runs and reports why.
+  if (std::string p = string_key(job, "layers"); !p.empty()) {
+    if (Expected<LayersSpec> spec = read_layers(p)) {
+      for (const LayerSpec& l : spec->layers) {
+        for (const fs::path& image : {l.texture, l.mask}) {
+          if (!image.empty()) f.inputs.push_back(image);
+        }
+      }
+    }
+  }
+  if (std::string p = string_key(job, "cameras"); !p.empty()) {
+    std::error_code ec;
+    if (fs::is_directory(p, ec)) {
+      for (const char* name : {"cameras.txt", "images.txt", "cameras.bin", "images.bin"}) {
+        if (fs::exists(fs::path(p) / name, ec)) f.inputs.push_back(fs::path(p) / name);
+      }
+    } else {
+      f.inputs.push_back(p);
+    }
+    if (Expected<std::vector<Photo>> photos = read_cameras(p, string_key(job, "images"))) {
+      for (const Photo& photo : *photos) f.inputs.push_back(photo.path);
+    }
   }
   const std::string output = string_key(job, "output");
   if (!output.empty()) {

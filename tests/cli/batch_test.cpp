@@ -207,6 +207,26 @@ TEST_F(BatchCli, SkipExistingSkipsUpToDateOutputsOnly) {
   EXPECT_GT(fs::last_write_time(out("b.ply")), old_time);
 }
 
+TEST_F(BatchCli, SkipExistingSeesALayersFilesImages) {
+  // A layers job's inputs include the images its layers file names: a
+  // newer label makes the job run again; otherwise it is skipped.
+  fs::copy_file(kData + "/label.png", dir / "label.png");
+  std::ofstream(dir / "L.json")
+      << R"({"layers":[{"proxy":{"kind":"cylinder","base":[0,0.15,0],"axis":[0,1,0],)"
+         R"("radius":0.3,"height":0.4},"texture":"label.png"}]})";
+  write_jobs({R"({"mesh":")" + kData + R"(/bottle.ply","layers":")" + out("L.json") +
+              R"(","output":")" + out("b.ply") + R"("})"});
+  ASSERT_EQ(batch("-q").exit_code, 0);
+  RunResult r = batch("--skip-existing --results " + shell_quote(out("r1.jsonl")));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_results(out("r1.jsonl"))[0]["status"], "skipped");
+  fs::last_write_time(dir / "label.png",
+                      fs::last_write_time(out("b.ply")) + std::chrono::seconds(10));
+  r = batch("--skip-existing --results " + shell_quote(out("r2.jsonl")));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_results(out("r2.jsonl"))[0]["status"], "ok");
+}
+
 TEST_F(BatchCli, BadValuesNameTheKey) {
   write_jobs({R"({"mesh":")" + kData + R"(/mushroom.off","proxy":"sphere","center":{"x":1}})"});
   const RunResult r = batch("");
