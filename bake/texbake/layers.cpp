@@ -124,7 +124,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
   }
   if (options.base == LayerBase::kMesh && !base_texture &&
       mesh.vertex_colors.size() != mesh.positions.size()) {
-    return make_error(ErrorCode::kInvalidArgument,
+    return make_error(ErrorCode::kParse,  // the mesh's problem (exit 1), as for the vertex target
                       "base \"mesh\": the mesh has neither a texture nor vertex colours");
   }
   if (Status s = check_uv_layout(mesh, atlas.uv); !s) return s.error();
