@@ -76,9 +76,9 @@ TEST_F(LayersAtlasCli, OneLayerOverNoneIsTheProxyAtlasInLinearLight) {
   ASSERT_EQ(layers.width, 512);
   ASSERT_EQ(direct.width, 512);
   // Texels all of whose samples the sphere sees (alpha 1) are the proxy
-  // atlas's texels (measured: identical); partly seen texels have the
-  // coverage as alpha (a multiple of 1/4 with 4 samples: 64, 128, 191; no
-  // padding, whose rings would average their neighbours).
+  // atlas's texels within 1 level (measured: 6 of 461,877 values differ by 1); partly seen texels
+  // have the coverage as alpha (a multiple of 1/4 with 4 samples: 64, 128, 191; no padding, whose
+  // rings would average their neighbours).
   std::size_t seen = 0, partly = 0;
   for (int y = 0; y < 512; ++y) {
     for (int x = 0; x < 512; ++x) {
