@@ -316,6 +316,9 @@ Status write_textured_glb(const fs::path& path, const MeshData& mesh, const Imag
                      texture.sampler = 0;
                      model.textures.push_back(texture);
                      material.pbrMetallicRoughness.baseColorTexture.index = 0;
+                     // Coverage alpha (layers over base "none") is blended
+                     // by glTF viewers only with alphaMode BLEND.
+                     if (options.blend) material.alphaMode = "BLEND";
                      return ok_status();
                    });
 }

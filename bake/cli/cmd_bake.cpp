@@ -259,13 +259,19 @@ int run_bake_photos(const BakeCliOptions& o, const CameraProjector* camera = nul
 // the single projection and of --cameras are usage errors (exit 2), then
 // bake/cli/layers_target.h.
 int run_bake_layers(const BakeCliOptions& o) {
+  // --samples is the atlas's supersample count (the vertex target has none).
   const std::vector<std::string> projection = given_flags(
       *o.command, {"--texture", "--proxy", "--proxy-file", "--filter", "--samples", "--visibility",
                    "--outside", "--wrap", "--linear", "--texture-colorspace", "--cameras",
                    "--images", "--blend", "--exposure"});
-  if (!projection.empty()) {
+  Expected<BakeTarget> target = resolve_target(o.atlas, o.output);
+  const bool atlas = target && *target == BakeTarget::kAtlas;
+  if (!projection.empty() &&
+      !(atlas && projection.front() == "--samples" && projection.size() == 1)) {
+    const std::string& flag =
+        projection.front() == "--samples" && atlas ? projection[1] : projection.front();
     return report_error(ErrorCode::kInvalidArgument,
-                        projection.front() +
+                        flag +
                             " does not apply to --layers (the layers file holds every "
                             "projection and its options)");
   }
@@ -273,12 +279,15 @@ int run_bake_layers(const BakeCliOptions& o) {
     if (flag == "--up") continue;  // a .glb's node matrix
     return report_error(ErrorCode::kInvalidArgument, flag + " does not apply to --layers");
   }
-  Expected<BakeTarget> target = resolve_target(o.atlas, o.output);
   if (!target) return report_error(target.error());
-  if (*target == BakeTarget::kAtlas ||
-      !given_flags(*o.command, {"--size", "--padding", "--uv", "--format"}).empty()) {
-    return report_error(ErrorCode::kUnsupported,
-                        "--layers bakes the vertex target (.ply, .obj or .glb) only so far");
+  const std::vector<std::string> wrong_target =
+      atlas ? given_flags(*o.command, {"--ascii"})
+            : given_flags(*o.command, {"--size", "--padding", "--uv", "--format"});
+  if (!wrong_target.empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        wrong_target.front() + " applies to --target " +
+                            (atlas ? "vertex" : "atlas") + " only (this bake's target is " +
+                            (atlas ? "atlas" : "vertex") + ", writing " + o.output + ")");
   }
   LayersJob job;
   job.mesh = o.mesh;
@@ -288,6 +297,20 @@ int run_bake_layers(const BakeCliOptions& o) {
   if (o.occluded.keyword.empty()) {
     job.occluded = OccludedMode::kColor;
     job.occluded_color = o.occluded.color;
+  }
+  if (atlas) {
+    if (o.atlas.uv == UvLayout::kProxy) {
+      return report_error(ErrorCode::kInvalidArgument,
+                          "--uv proxy needs a proxy, and --layers has none (use --uv generate "
+                          "or --uv mesh)");
+    }
+    Expected<AtlasOptions> a = atlas_options(o.atlas, o.samples, VertexBakeOptions{}, o.output);
+    if (!a) return report_error(a.error());
+    job.atlas = true;
+    job.atlas_options = *a;
+    // Not given: the base texture's size (base "mesh"), else 2048.
+    if (given_flags(*o.command, {"--size"}).empty()) job.atlas_options.bake.size = 0;
+    job.write = atlas_write_options(o.atlas);
   }
   job.write.ascii = o.ascii;
   job.write.up = up_direction(o.geometry);
@@ -569,7 +592,8 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
                   "bake several projections composited over a base from a layers file (SPEC "
                   "section 10: base, and per layer proxy | proxy_file, texture, mask, opacity, "
                   "mode, angle_fade, visibility, outside) instead of --texture and a proxy "
-                  "(vertex target)")
+                  "(vertex or atlas target; the atlas takes --size, --samples, --padding, "
+                  "--uv generate|mesh|auto, --format)")
       ->type_name("LAYERS.json");
   cmd->add_option("--report", o->report, "write what was done as JSON to this file");
   cmd->add_option("--threads", o->threads, "worker threads (default: all cores)")

@@ -11,12 +11,54 @@
 #include "bake/cli/report.h"
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
+#include "mesh_io/mesh_texture.h"
 
 namespace texbake::cli {
 
 namespace {
 
 namespace fs = std::filesystem;
+
+// One entry per layer: in_domain, visible, blended (vertices or atlas samples), mean alpha.
+nlohmann::ordered_json layers_json(const std::vector<LayerStats>& stats) {
+  nlohmann::ordered_json layers = nlohmann::ordered_json::array();
+  for (const LayerStats& s : stats) {
+    layers.push_back({{"texture", s.name},
+                      {"in_domain", s.in_domain},
+                      {"visible", s.visible},
+                      {"blended", s.blended},
+                      {"mean_alpha", s.mean_alpha}});
+  }
+  return layers;
+}
+
+// The atlas layers bake's --report: inputs, counts (atlas samples), the
+// "atlas" object of the proxy atlas's report, one entry per layer (over the
+// samples), timings.
+std::string layers_atlas_report(const LayersJob& job, const LayerAtlas& baked, double load,
+                                double write, double total) {
+  nlohmann::ordered_json j;
+  j["command"] = "bake";
+  j["target"] = "atlas";
+  j["inputs"] = {{"mesh", job.mesh},
+                 {"layers", job.layers},
+                 {"output", job.output},
+                 {"options", {{"threads", job.threads}}}};
+  const Stats& st = baked.atlas.stats;
+  const Counts& c = st.counts;
+  j["counts"] = {{"vertices", c.vertices}, {"triangles", c.triangles}, {"texels", c.texels},
+                 {"samples", c.samples},   {"uncovered", c.occluded},  {"padded", c.padded}};
+  AtlasBakeOptions options = job.atlas_options.bake;
+  options.size = baked.atlas.image.width;
+  j["atlas"] = atlas_json(AtlasReport{options, baked.atlas.uv}, st, write);
+  j["layers"] = layers_json(baked.layers);
+  const Timings& t = st.timings;
+  j["timings"] = {{"load", load},     {"uv_layout", t.uv_layout},
+                  {"fill", t.fill},   {"scene_build", t.scene_build},
+                  {"layers", t.bake}, {"pad", t.pad},
+                  {"write", write},   {"total", total}};
+  return j.dump(2) + "\n";
+}
 
 // The layers bake's --report: inputs, counts, timings and one entry per layer.
 std::string layers_report(const LayersJob& job, const LayerColors& baked, double load, double write,
@@ -33,15 +75,7 @@ std::string layers_report(const LayersJob& job, const LayerColors& baked, double
                  {"triangles", c.triangles},
                  {"uncovered", c.occluded},
                  {"filled", c.filled}};
-  nlohmann::ordered_json layers = nlohmann::ordered_json::array();
-  for (const LayerStats& s : baked.layers) {
-    layers.push_back({{"texture", s.name},
-                      {"in_domain", s.in_domain},
-                      {"visible", s.visible},
-                      {"blended", s.blended},
-                      {"mean_alpha", s.mean_alpha}});
-  }
-  j["layers"] = layers;
+  j["layers"] = layers_json(baked.layers);
   const Timings& t = baked.stats.timings;
   j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
                   {"layers", t.bake}, {"fill", t.fill},
@@ -49,20 +83,71 @@ std::string layers_report(const LayersJob& job, const LayerColors& baked, double
   return j.dump(2) + "\n";
 }
 
+// Bakes the atlas target and writes it (after run_layers_bake's checks).
+int run_layers_atlas(const LayersJob& job, const LayersSpec& spec, const LoadedMesh& mesh,
+                     const LayersBakeOptions& options, const RunOptions& run,
+                     Clock::time_point start, double load) {
+  if (spec.base == LayerBase::kMesh && mesh.mesh.has_texture() &&
+      mesh.issues.other_material_primitives > 0) {
+    std::cerr << "texbake: warning: " << job.mesh << ": " << mesh.issues.other_material_primitives
+              << " primitive(s) use another material: base \"mesh\" is the first material's "
+                 "texture ("
+              << mesh_texture_label(mesh.mesh) << ") over every triangle\n";
+  }
+  Expected<LayerAtlas> baked =
+      bake_atlas_texture_from_layers(mesh.mesh, spec, options, job.atlas_options, run);
+  if (!baked) return report_mesh_error(baked.error(), job.mesh);
+  for (const std::string& w : baked->atlas.stats.warnings) {
+    std::cerr << "texbake: warning: " << w << "\n";
+  }
+  auto stage = Clock::now();
+  const fs::path output = job.output;
+  if (Status s = write_atlas(output, baked->atlas, job.write); !s) return report_error(s.error());
+  const double write = seconds_since(stage);
+  const double total = seconds_since(start);
+  const std::string report = layers_atlas_report(job, *baked, load, write, total);
+  if (!job.report.empty()) {
+    if (Status s = write_report_text(job.report, report); !s) return report_error(s.error());
+  }
+  if (job.on_report) job.on_report(report);
+  if (!job.quiet) {
+    const Counts& c = baked->atlas.stats.counts;
+    std::string written = job.output;
+    const std::vector<fs::path> files = atlas_files(output, job.write);
+    if (files.size() == 3) {
+      written += " (+ " + files[1].filename().string() + ", " + files[2].filename().string() + ")";
+    }
+    std::printf(
+        "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu uncovered, %zu padded) from "
+        "%zu layers in %.2f s -> %s\n",
+        baked->atlas.image.width, baked->atlas.image.height, to_string(baked->atlas.uv.used),
+        c.texels, c.samples, c.occluded, c.padded, baked->layers.size(), total, written.c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int run_layers_bake(const LayersJob& job) {
   const auto start = Clock::now();
   const fs::path output = job.output;
-  if (Status s = validate_write(output, job.write, /*atlas=*/false); !s)
-    return report_error(s.error());
+  if (Status s = validate_write(output, job.write, job.atlas); !s) return report_error(s.error());
+  // The outputs (-o and, for an atlas .obj, its material and image), then --report.
+  std::vector<fs::path> outputs{output};
+  if (job.atlas) outputs = atlas_files(output, job.write);
+  std::vector<NamedFile> written{{"-o", output}};
+  if (outputs.size() == 3) {
+    written.push_back({"the material of -o", outputs[1].string()});
+    written.push_back({"the atlas image of -o", outputs[2].string()});
+  }
+  written.push_back({"--report", job.report});
   {
     const std::vector<NamedFile> read{{"MESH", job.mesh}, {"--layers", job.layers}};
-    const std::vector<NamedFile> written{{"-o", output}, {"--report", job.report}};
     if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
   }
-  for (const std::string& p : {job.output, job.report}) {
-    if (p.empty()) continue;
+  if (!job.report.empty()) outputs.push_back(job.report);
+  for (const fs::path& p : outputs) {
     if (Status s = check_writable(p); !s) return report_error(s.error());
   }
   auto stage = Clock::now();
@@ -76,11 +161,15 @@ int run_layers_bake(const LayersJob& job) {
       read.push_back({key + ".texture", spec->layers[i].texture.string()});
       read.push_back({key + ".mask", spec->layers[i].mask.string()});
     }
-    const std::vector<NamedFile> written{{"-o", output}, {"--report", job.report}};
     if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
   }
   Expected<LoadedMesh> mesh = read_mesh(job.mesh);
   if (!mesh) return report_error(mesh.error());
+  if (job.atlas && mesh->mesh.has_texture()) {
+    // Nor the base texture.
+    const std::vector<NamedFile> read{{"the texture of MESH", mesh->mesh.texture_path}};
+    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
+  }
   const double load = seconds_since(stage);
 
   LayersBakeOptions options;
@@ -92,6 +181,7 @@ int run_layers_bake(const LayersJob& job) {
   RunOptions run;
   run.threads = job.threads;
   run.progress = bar.callback();
+  if (job.atlas) return run_layers_atlas(job, *spec, *mesh, options, run, start, load);
   Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh->mesh, *spec, options, run);
   if (!baked) return report_mesh_error(baked.error(), job.mesh);
   stage = Clock::now();

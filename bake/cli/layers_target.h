@@ -1,7 +1,9 @@
 // `texbake bake MESH --layers LAYERS.json -o OUT` (SPEC section 10): vertex
-// colours composited from several projections over a base
-// (bake_vertex_colors_from_layers; the vertex target's writers: .ply, .obj,
-// .glb; RGBA when the result is not opaque).
+// colours (bake_vertex_colors_from_layers; the vertex target's writers:
+// .ply, .obj, .glb; RGBA when the result is not opaque) or an atlas
+// (bake_atlas_texture_from_layers; write_atlas: .obj + .mtl + RGBA .png, or
+// a .glb with alphaMode BLEND when a covered texel is not opaque)
+// composited from several projections over a base.
 #pragma once
 
 #include <functional>
@@ -16,6 +18,8 @@ struct LayersJob {
   OccludedMode occluded = OccludedMode::kFill;
   Rgba occluded_color{0, 0, 0, 1};
   WriteOptions write;
+  bool atlas = false;          // the atlas target (else vertex)
+  AtlasOptions atlas_options;  // bake.size 0: the base texture's size, else 2048
   int threads = 0;
   bool quiet = false;
   std::function<void(const std::string&)> on_report;  // CliHooks::on_report (batch results)

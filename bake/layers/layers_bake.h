@@ -1,7 +1,8 @@
 // Layers (SPEC section 10): several projections composited over a base,
 // bottom first, per sample in linear light.
 //
-// Per sample (a vertex here) and layer, with d = d(P) the direction towards
+// Per sample (a vertex, or an atlas supersample: bake_atlas_layers below)
+// and layer, with d = d(P) the direction towards
 // the layer's projector and n the smooth vertex normal:
 //   a = opacity x image alpha x mask x angle fade x seen
 //  - the image is sampled bilinearly at the projector's (u, v) with its wrap
@@ -31,6 +32,9 @@
 // (OccludedMode::kFill: the harmonic fill of bake/vertex/occlusion_fill.h
 // over their RGB, alpha staying 0; kColor: the constant's RGB, alpha 0;
 // kProject acts as kFill). Results do not depend on the thread count.
+// One per-point implementation serves both targets: the vertex target's
+// points are the vertices with their smooth normals, the atlas's its
+// supersamples with the interpolated smooth normals.
 #pragma once
 
 #include <cstddef>
@@ -38,9 +42,11 @@
 #include <vector>
 
 #include "bake/shade/options.h"
+#include "bake/util/progress.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/projector.h"
+#include "mesh_io/image_io.h"
 #include "mesh_io/layers_json.h"
 #include "mesh_io/mesh_data.h"
 
@@ -91,5 +97,64 @@ struct LayersBakeResult {
 Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
                                               const std::vector<LayerInput>& layers,
                                               const LayersBakeOptions& options);
+
+// ---- The atlas target -------------------------------------------------------
+//
+// bake_atlas_layers: the supersamples of the atlas (bake/atlas/atlas_raster.h,
+// streamed band by band like bake/atlas/bake_atlas.h) take the place of the
+// vertices: each sample's point (barycentric on its triangle) and its
+// interpolated smooth vertex normal (normalised; the face's when they cancel)
+// go through every layer as above, composited over the sample's base:
+//  - "none": B = 0, alpha 0; a colour: its linear RGB and alpha;
+//  - "mesh" with options.base_texture (the mesh's own texture; uv_mesh must
+//    carry the mesh's own UVs, the layout the texture was painted in): the
+//    texture's bilinear lookup (premultiplied linear, then straight) at the
+//    centre of the sample's TEXEL, so that all samples of a texel share the
+//    base and an atlas at the texture's size keeps it exactly where no layer
+//    reaches (the texture is resampled to the atlas grid at other sizes);
+//  - "mesh" without a texture: the mesh's vertex colours (linearised)
+//    interpolated barycentrically over the sample's triangle.
+// Texel = the mean of its samples in premultiplied linear light (so the
+// coverage averages: a texel half covered by an opaque layer over "none" has
+// alpha 0.5 and the layer's colour), written straight-alpha, sRGB-encoded.
+// A texel none of whose samples is covered (alpha 0) takes, under kFill, the
+// mean of its samples' fill colours: the vertex target's result on uv_mesh
+// (bake_vertex_layers; base "none" when the base is the texture)
+// interpolated barycentrically, as the proxy atlas does with its per-vertex
+// fill; under kColor the constant's RGB exactly; alpha stays 0. Padding:
+// pad_atlas (bake/atlas/bake_atlas.h) as `padding` says. Layer stats count
+// samples (in_domain, visible, blended; mean alpha over all samples).
+// Memory: the atlas, every layer's working image, and one band of samples
+// per thread. Results do not depend on the thread count.
+
+struct LayersAtlasOptions {
+  int size = 2048;           // texels per side, 1 .. kMaxAtlasSize
+  int samples = 4;           // supersamples per covered texel, 1 .. kMaxAtlasSamples
+  int padding = -1;          // as AtlasBakeOptions::padding (kPaddingDefault = -1)
+  LayersBakeOptions layers;  // base (+ colour), occluded (+ colour)
+  ImageView base_texture;    // base "mesh": the mesh's texture (data null: its vertex colours)
+};
+
+struct LayersAtlasResult {
+  Image atlas;                     // size x size RGBA, sRGB-encoded, straight alpha = coverage
+  std::vector<uint8_t> baked;      // size * size: 1 where covered by the layout
+  std::vector<LayerStats> layers;  // per layer, over the atlas samples
+  std::size_t texels = 0, samples = 0, border_samples = 0;
+  std::size_t uncovered = 0;  // samples with coverage 0
+  std::size_t padded = 0;     // texels filled by padding
+  bool opaque = true;         // every covered texel has alpha 1
+  double seconds_fill = 0, seconds_scene = 0, seconds_layers = 0, seconds_pad = 0;
+};
+
+// uv_mesh: a mesh with per-corner UVs covering its triangles (as for
+// bake_atlas). Errors: kInvalidArgument (no layers, an empty image, a bad
+// padding, base "mesh" with neither a texture nor vertex colours),
+// rasterize_atlas's (bad size or samples, no UVs, bad UVs), kInternal
+// (Embree, the fill), kCancelled (progress's callback; stage "sample", per
+// band).
+Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
+                                              const std::vector<LayerInput>& layers,
+                                              const LayersAtlasOptions& options,
+                                              Progress* progress = nullptr);
 
 }  // namespace texbake

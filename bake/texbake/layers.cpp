@@ -1,10 +1,15 @@
-// read_layers and bake_vertex_colors_from_layers: mesh_io's layers file and
+// read_layers, bake_vertex_colors_from_layers and
+// bake_atlas_texture_from_layers: mesh_io's layers file and
 // images, and bake/layers behind the API's conventions.
+#include <algorithm>
+#include <optional>
+
 #include "bake/texbake/run.h"
 #include "bake/util/progress.h"
 #include "bake/util/timing.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/layers_json.h"
+#include "mesh_io/mesh_texture.h"
 #include "texbake/texbake.h"
 
 namespace texbake {
@@ -13,12 +18,10 @@ Expected<LayersSpec> read_layers(const std::filesystem::path& layers_file) {
   return read_layers_file(layers_file);
 }
 
-Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const LayersSpec& spec,
-                                                     const LayersBakeOptions& options,
-                                                     const RunOptions& run) {
-  const auto start = Clock::now();
+namespace {
+
+Status check_layer_specs(const LayersSpec& spec) {
   if (spec.layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
-  if (Status s = check_triangles(mesh); !s) return s.error();
   for (std::size_t i = 0; i < spec.layers.size(); ++i) {
     if (!spec.layers[i].cameras.empty()) {
       return make_error(
@@ -28,40 +31,60 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
               "is not supported yet; a single camera as \"proxy\" or \"proxy_file\" is");
     }
   }
+  return ok_status();
+}
+
+// Every layer's texture and mask, read into `images` (which must outlive
+// the inputs), one progress step per layer.
+Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Progress& progress,
+                                                    std::vector<Image>& images) {
+  images.reserve(2 * spec.layers.size());
+  std::vector<LayerInput> inputs;
+  for (const LayerSpec& l : spec.layers) {
+    if (progress.cancelled()) return cancelled_error();
+    LayerInput in;
+    in.name = l.texture.filename().string();
+    in.projector = *l.projector;
+    Expected<Image> texture = read_image(l.texture);
+    if (!texture) return texture.error();
+    images.push_back(std::move(texture).value());
+    in.texture = images.back().view();
+    in.texture_has_alpha = images.back().has_alpha;
+    if (!l.mask.empty()) {
+      Expected<Image> mask = read_image(l.mask);
+      if (!mask) return mask.error();
+      images.push_back(std::move(mask).value());
+      in.mask = images.back().view();
+      in.mask_has_alpha = images.back().has_alpha;
+    }
+    in.opacity = l.opacity;
+    in.mode = l.mode;
+    in.angle_fade = l.angle_fade;
+    in.visibility = l.visibility;
+    in.outside = l.outside;
+    in.outside_color = l.outside_color;
+    inputs.push_back(std::move(in));
+    progress.advance(1);
+  }
+  return inputs;
+}
+
+}  // namespace
+
+Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const LayersSpec& spec,
+                                                     const LayersBakeOptions& options,
+                                                     const RunOptions& run) {
+  const auto start = Clock::now();
+  if (Status s = check_layer_specs(spec); !s) return s.error();
+  if (Status s = check_triangles(mesh); !s) return s.error();
   Progress progress(run.progress);
   return detail::run_call<LayerColors>(run, [&]() -> Expected<LayerColors> {
     progress.start("layers", spec.layers.size());
     // The images stay alive for the bake: every layer's texture and mask.
     std::vector<Image> images;
-    images.reserve(2 * spec.layers.size());
-    std::vector<LayerInput> inputs;
-    for (const LayerSpec& l : spec.layers) {
-      if (progress.cancelled()) return cancelled_error();
-      LayerInput in;
-      in.name = l.texture.filename().string();
-      in.projector = *l.projector;
-      Expected<Image> texture = read_image(l.texture);
-      if (!texture) return texture.error();
-      images.push_back(std::move(texture).value());
-      in.texture = images.back().view();
-      in.texture_has_alpha = images.back().has_alpha;
-      if (!l.mask.empty()) {
-        Expected<Image> mask = read_image(l.mask);
-        if (!mask) return mask.error();
-        images.push_back(std::move(mask).value());
-        in.mask = images.back().view();
-        in.mask_has_alpha = images.back().has_alpha;
-      }
-      in.opacity = l.opacity;
-      in.mode = l.mode;
-      in.angle_fade = l.angle_fade;
-      in.visibility = l.visibility;
-      in.outside = l.outside;
-      in.outside_color = l.outside_color;
-      inputs.push_back(std::move(in));
-      progress.advance(1);
-    }
-    Expected<LayersBakeResult> baked = bake_vertex_layers(mesh, inputs, options);
+    Expected<std::vector<LayerInput>> inputs = read_layer_inputs(spec, progress, images);
+    if (!inputs) return inputs.error();
+    Expected<LayersBakeResult> baked = bake_vertex_layers(mesh, *inputs, options);
     if (!baked) return detail::as_input(baked.error());
     progress.finish();
     LayerColors out;
@@ -76,6 +99,86 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     t.scene_build = baked->seconds_scene;
     t.bake = baked->seconds_layers;
     t.fill = baked->seconds_fill;
+    t.total = seconds_since(start);
+    return out;
+  });
+}
+
+Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const LayersSpec& spec,
+                                                    const LayersBakeOptions& options,
+                                                    const AtlasOptions& atlas,
+                                                    const RunOptions& run) {
+  const auto start = Clock::now();
+  if (Status s = check_layer_specs(spec); !s) return s.error();
+  if (atlas.uv == UvLayout::kProxy) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--uv proxy needs a proxy, and a layers bake has none (use --uv generate "
+                      "or --uv mesh)");
+  }
+  const bool base_texture = options.base == LayerBase::kMesh && mesh.has_texture();
+  if (base_texture &&
+      !(atlas.uv == UvLayout::kMesh || (atlas.uv == UvLayout::kAuto && mesh.has_uvs()))) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "base \"mesh\" on the atlas is the mesh's own texture through its own UVs: "
+                      "use --uv mesh (or --uv auto on a mesh with UVs)");
+  }
+  if (options.base == LayerBase::kMesh && !base_texture &&
+      mesh.vertex_colors.size() != mesh.positions.size()) {
+    return make_error(ErrorCode::kParse,  // the mesh's problem (exit 1), as for the vertex target
+                      "base \"mesh\": the mesh has neither a texture nor vertex colours");
+  }
+  if (Status s = check_uv_layout(mesh, atlas.uv); !s) return s.error();
+  // The base texture first: its size is the default --size.
+  std::optional<Image> texture;
+  AtlasOptions resolved = atlas;
+  if (base_texture) {
+    Expected<Image> read = read_mesh_texture(mesh);
+    if (!read) return detail::as_input(read.error());
+    texture = std::move(read).value();
+  }
+  if (resolved.bake.size == 0) {
+    resolved.bake.size = texture ? std::max(texture->width, texture->height) : 2048;
+  }
+  if (Status s = validate_options(resolved); !s) return s.error();
+  if (Status s = check_triangles(mesh); !s) return s.error();
+  Progress progress(run.progress);
+  return detail::run_call<LayerAtlas>(run, [&]() -> Expected<LayerAtlas> {
+    progress.start("layers", spec.layers.size());
+    std::vector<Image> images;
+    Expected<std::vector<LayerInput>> inputs = read_layer_inputs(spec, progress, images);
+    if (!inputs) return inputs.error();
+    progress.finish();
+    LayerAtlas out;
+    if (Status s = detail::lay_out_atlas(mesh, nullptr, resolved, progress, out.atlas); !s) {
+      return s.error();
+    }
+    if (options.base == LayerBase::kMesh && !base_texture && out.atlas.mesh.vertex_colors.empty()) {
+      out.atlas.mesh.vertex_colors = mesh.vertex_colors;  // generated charts: same vertices
+    }
+    LayersAtlasOptions o;
+    o.size = resolved.bake.size;
+    o.samples = resolved.bake.samples;
+    o.padding = resolved.bake.padding;
+    o.layers = options;
+    if (texture) o.base_texture = texture->view();
+    Expected<LayersAtlasResult> baked = bake_atlas_layers(out.atlas.mesh, *inputs, o, &progress);
+    if (progress.cancelled()) return cancelled_error();
+    if (!baked) return detail::as_input(baked.error());
+    out.atlas.image = std::move(baked->atlas);
+    out.atlas.blend = !baked->opaque;
+    out.layers = std::move(baked->layers);
+    Counts& c = out.atlas.stats.counts;
+    c = detail::mesh_counts(mesh);
+    c.texels = baked->texels;
+    c.samples = baked->samples;
+    c.occluded = baked->uncovered;
+    c.border_samples = baked->border_samples;
+    c.padded = baked->padded;
+    Timings& t = out.atlas.stats.timings;
+    t.fill = baked->seconds_fill;
+    t.scene_build = baked->seconds_scene;
+    t.bake = baked->seconds_layers;
+    t.pad = baked->seconds_pad;
     t.total = seconds_since(start);
     return out;
   });

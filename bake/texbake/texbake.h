@@ -274,6 +274,10 @@ struct Atlas {
   MeshData mesh;          // the input with the per-corner UVs baked against
   Image image;            // size x size RGBA, sRGB-encoded (color_space kSrgb)
   bool repeat_u = false;  // the layout is periodic in u (kProxy on a periodic proxy)
+  // A covered texel is not opaque (layers over a transparent base): a .glb
+  // gets alphaMode BLEND. The background's alpha 0 of the default padding
+  // does not count.
+  bool blend = false;
   UvLayoutStats uv;
   Stats stats;
 };
@@ -298,6 +302,41 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
 // 1 .. kMaxAtlasSamples, a padding neither a count in 0 .. kMaxAtlasSize nor
 // kPaddingDefault / kPaddingInfinite, a colour component outside [0, 1].
 Status validate_options(const AtlasOptions& options);
+
+// ---- Atlas from layers (SPEC section 10) -----------------------------------
+
+struct LayerAtlas {
+  Atlas atlas;  // mesh with the UVs, image (sRGB, straight alpha = coverage), uv, blend, stats
+  // Per layer, over the atlas supersamples: in domain, visible, blended,
+  // mean alpha. atlas.stats: counts.texels, samples, occluded (samples with
+  // coverage 0), border_samples, padded; timings.uv_layout, fill (the
+  // vertex pass giving the fill's colours), scene_build, bake (the layers
+  // over every sample), pad, total; warnings of the layout.
+  std::vector<LayerStats> layers;
+};
+
+// The atlas target of bake --layers (the contract of bake_atlas_layers in
+// bake/layers/layers_bake.h): the UV layout of atlas.uv (kAuto, kMesh or
+// kGenerate; kProxy has no single proxy here), then per supersample every
+// layer of `spec` composited over its base, texel = the samples' mean in
+// premultiplied linear light, then atlas.bake.padding. Base "mesh" is the
+// mesh's own texture (MeshData::texture_path or texture_bytes, read with
+// read_mesh_texture) through the mesh's own UVs, which needs atlas.uv kMesh
+// (or kAuto on a mesh with UVs); a mesh without a texture but with vertex
+// colours gives them, interpolated over each triangle (any layout).
+// atlas.bake.size 0 means the base texture's size (its larger side), else
+// 2048. atlas.bake.shading is not used (options holds the occluded rule).
+// Errors: kUsage (atlas options out of range, --uv proxy, kMesh on a mesh
+// without UVs, base "mesh" as a texture with another layout), kInput (an
+// image or the mesh's texture unreadable, base "mesh" on a mesh with
+// neither texture nor vertex colours, a mesh with no non-degenerate
+// triangle or that the layout cannot chart), kUnsupported (a "cameras"
+// layer), kInternal, kCancelled. Progress stages: "layers" (per layer
+// read), "uv_layout", "sample" (per atlas row).
+Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const LayersSpec& spec,
+                                                    const LayersBakeOptions& options = {},
+                                                    const AtlasOptions& atlas = {},
+                                                    const RunOptions& run = {});
 
 // ---- Atlas from photographs (SPEC section 9) -------------------------------
 

@@ -72,6 +72,7 @@ Status write_atlas(const std::filesystem::path& path, const Atlas& atlas,
   TexturedWriteOptions wo;
   wo.bit_depth = bit_depth(options.format);
   wo.repeat_u = atlas.repeat_u;
+  wo.blend = atlas.blend;
   wo.up = options.up;
   return write_textured_mesh(path, atlas.mesh, atlas.image.view(), wo);
 }
