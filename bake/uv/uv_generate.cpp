@@ -101,7 +101,9 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
 
   std::vector<ChartRaster> rasters(charts.size());
   std::vector<Placement> placement, best_placement;
-  std::vector<ChartRaster> best_rasters;
+  // The best pack so far is kept by swapping (every round overwrites all of
+  // `rasters` and `placement`), not by copying the bitmaps.
+  std::vector<ChartRaster> best_rasters(charts.size());
   double best_scale = 0;
   // Scale search. A pack into a strip of the atlas' width reports the height
   // it needs; at a fixed width that height grows about as scale^2, so the
@@ -124,8 +126,8 @@ Expected<UvAtlas> generate_uv_atlas(const MeshData& mesh, const UvGenerateOption
     if (used >= 0 && used <= size) {
       lo = scale;
       best_scale = scale;
-      best_placement = placement;
-      best_rasters = rasters;
+      best_placement.swap(placement);
+      best_rasters.swap(rasters);
     } else {
       hi = scale;
     }

@@ -11,22 +11,37 @@
 namespace texbake::uv_detail {
 namespace {
 
-// Conservative coverage: does triangle (a, b, c) meet the square
+// Conservative coverage of one triangle (a, b, c): does it meet the square
 // [x0, x1] x [y0, y1]? Separating axes: the square's axes (by the caller's
-// bounding-box loop) and the triangle's three edge normals.
-bool triangle_meets_box(Vec2 a, Vec2 b, Vec2 c, double x0, double y0, double x1, double y1) {
-  const double orient = cross2(a, b, c);
-  const Vec2 v[3] = {a, b, c};
-  for (int k = 0; k < 3; ++k) {
-    const Vec2 p = v[k], q = v[(k + 1) % 3];
-    // Inside is where orient * cross(p, q, x) >= 0; the box is outside if even
-    // its best corner is strictly outside.
-    const double nx = -(q.y - p.y) * orient, ny = (q.x - p.x) * orient;
-    const double bx = nx > 0 ? x1 : x0, by = ny > 0 ? y1 : y0;
-    if (nx * (bx - p.x) + ny * (by - p.y) < 0) return false;
+// bounding-box loop) and the triangle's three edge normals, which are worked
+// out once per triangle rather than once per texel tested.
+class TriangleBoxTest {
+ public:
+  TriangleBoxTest(Vec2 a, Vec2 b, Vec2 c) {
+    const double orient = cross2(a, b, c);
+    const Vec2 v[3] = {a, b, c};
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 p = v[k], q = v[(k + 1) % 3];
+      // Inside is where orient * cross(p, q, x) >= 0.
+      p_[k] = p;
+      nx_[k] = -(q.y - p.y) * orient;
+      ny_[k] = (q.x - p.x) * orient;
+    }
   }
-  return true;
-}
+
+  bool meets(double x0, double y0, double x1, double y1) const {
+    for (int k = 0; k < 3; ++k) {
+      // The box is outside if even its best corner is strictly outside.
+      const double bx = nx_[k] > 0 ? x1 : x0, by = ny_[k] > 0 ? y1 : y0;
+      if (nx_[k] * (bx - p_[k].x) + ny_[k] * (by - p_[k].y) < 0) return false;
+    }
+    return true;
+  }
+
+ private:
+  Vec2 p_[3];
+  double nx_[3], ny_[3];
+};
 
 // Texel squares are grown by kCoverEps texel in the packer so that the
 // float32 rounding of the final UVs never makes a texel covered that the
@@ -40,48 +55,52 @@ struct Profile {
   std::vector<int> bottom, top;
 };
 
-Profile profile(const ChartRaster& r, int rot) {
+// The four turns' profiles of r from one scan of its bits.
+void profiles(const ChartRaster& r, Profile (&out)[4]) {
   std::vector<int> col_lo(r.w, r.h), col_hi(r.w, -1), row_lo(r.h, r.w), row_hi(r.h, -1);
   for (int j = 0; j < r.h; ++j) {
+    const uint8_t* row = r.bits.data() + static_cast<std::size_t>(j) * r.w;
     for (int i = 0; i < r.w; ++i) {
-      if (!r.bits[static_cast<std::size_t>(j) * r.w + i]) continue;
+      if (!row[i]) continue;
       col_lo[i] = std::min(col_lo[i], j);
       col_hi[i] = std::max(col_hi[i], j);
       row_lo[j] = std::min(row_lo[j], i);
       row_hi[j] = std::max(row_hi[j], i);
     }
   }
-  Profile p;
-  if (rot == 0) {  // (i, j) -> (i, j)
-    p = {r.w, r.h, col_lo, col_hi};
-  } else if (rot == 2) {  // (i, j) -> (w-1-i, h-1-j)
-    p.w = r.w, p.h = r.h;
-    p.bottom.resize(r.w), p.top.resize(r.w);
-    for (int c = 0; c < r.w; ++c) {
-      p.bottom[c] = r.h - 1 - col_hi[r.w - 1 - c];
-      p.top[c] = r.h - 1 - col_lo[r.w - 1 - c];
+  for (int rot = 0; rot < 4; ++rot) {
+    Profile& p = out[rot];
+    if (rot == 0) {  // (i, j) -> (i, j)
+      p.w = r.w, p.h = r.h;
+      p.bottom = col_lo, p.top = col_hi;
+    } else if (rot == 2) {  // (i, j) -> (w-1-i, h-1-j)
+      p.w = r.w, p.h = r.h;
+      p.bottom.resize(r.w), p.top.resize(r.w);
+      for (int c = 0; c < r.w; ++c) {
+        p.bottom[c] = r.h - 1 - col_hi[r.w - 1 - c];
+        p.top[c] = r.h - 1 - col_lo[r.w - 1 - c];
+      }
+    } else if (rot == 1) {  // (i, j) -> (h-1-j, i)
+      p.w = r.h, p.h = r.w;
+      p.bottom.resize(r.h), p.top.resize(r.h);
+      for (int c = 0; c < r.h; ++c) {
+        p.bottom[c] = row_lo[r.h - 1 - c];
+        p.top[c] = row_hi[r.h - 1 - c];
+      }
+    } else {  // (i, j) -> (j, w-1-i)
+      p.w = r.h, p.h = r.w;
+      p.bottom.resize(r.h), p.top.resize(r.h);
+      for (int c = 0; c < r.h; ++c) {
+        p.bottom[c] = r.w - 1 - row_hi[c];
+        p.top[c] = r.w - 1 - row_lo[c];
+      }
     }
-  } else if (rot == 1) {  // (i, j) -> (h-1-j, i)
-    p.w = r.h, p.h = r.w;
-    p.bottom.resize(r.h), p.top.resize(r.h);
-    for (int c = 0; c < r.h; ++c) {
-      p.bottom[c] = row_lo[r.h - 1 - c];
-      p.top[c] = row_hi[r.h - 1 - c];
-    }
-  } else {  // (i, j) -> (j, w-1-i)
-    p.w = r.h, p.h = r.w;
-    p.bottom.resize(r.h), p.top.resize(r.h);
-    for (int c = 0; c < r.h; ++c) {
-      p.bottom[c] = r.w - 1 - row_hi[c];
-      p.top[c] = r.w - 1 - row_lo[c];
+    // A connected chart covers every column of its box; should one not, treat
+    // that column as fully covered (safe: it only reserves more space).
+    for (int c = 0; c < p.w; ++c) {
+      if (p.top[c] < p.bottom[c]) p.bottom[c] = 0, p.top[c] = p.h - 1;
     }
   }
-  // A connected chart covers every column of its box; should one not, treat
-  // that column as fully covered (safe: it only reserves more space).
-  for (int c = 0; c < p.w; ++c) {
-    if (p.top[c] < p.bottom[c]) p.bottom[c] = 0, p.top[c] = p.h - 1;
-  }
-  return p;
 }
 
 // Occupied texels of the atlas, per column, as sorted disjoint closed row
@@ -148,12 +167,12 @@ ChartRaster rasterize_chart(const FlatChart& fc, double scale) {
     const int j0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, d.y}) - kCoverEps)));
     const int j1 =
         std::min(r.h - 1, static_cast<int>(std::floor(std::max({a.y, b.y, d.y}) + kCoverEps)));
+    const TriangleBoxTest test(a, b, d);
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
         uint8_t& bit = r.bits[static_cast<std::size_t>(j) * r.w + i];
         if (bit) continue;
-        if (triangle_meets_box(a, b, d, i - kCoverEps, j - kCoverEps, i + 1 + kCoverEps,
-                               j + 1 + kCoverEps)) {
+        if (test.meets(i - kCoverEps, j - kCoverEps, i + 1 + kCoverEps, j + 1 + kCoverEps)) {
           bit = 1;
           ++r.covered;
         }
@@ -177,7 +196,7 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
     int x = 0, y = 0, rot = 0;
   };
   int used = 0;
-  Profile profiles[4];
+  Profile prof[4];
   // Lowest position of profile p at column x (y only grows while raising, so
   // this ends after at most one raise per occupied span), or -1 when it
   // cannot beat `bound` (score (top edge) * size + x) or exceeds max_height.
@@ -198,14 +217,14 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
   };
   for (uint32_t ci : order) {
     Best best;
-    for (int rot = 0; rot < 4; ++rot) profiles[rot] = profile(rasters[ci], rot);
+    profiles(rasters[ci], prof);
     // Wide charts are first placed on every kStride-th column, then the best
     // of those is refined column by column within +-kStride: the cost of a
     // column is the chart's width, and a texel or two of horizontal slack
     // rarely decides whether a wide chart fits.
-    const int stride = std::clamp(profiles[0].w / 32, 1, 4);
+    const int stride = std::clamp(prof[0].w / 32, 1, 4);
     for (int rot = 0; rot < 4; ++rot) {
-      const Profile& p = profiles[rot];
+      const Profile& p = prof[rot];
       if (p.w > size || p.h > max_height) continue;
       // The best possible score of this turn (y = 0, x = 0) cannot win.
       if (static_cast<long>(p.h) * size >= best.score) continue;
@@ -235,7 +254,7 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
       }
     }
     if (stride > 1 && best.score != std::numeric_limits<long>::max()) {
-      const Profile& p = profiles[best.rot];
+      const Profile& p = prof[best.rot];
       const int x0 = std::max(0, best.x - stride + 1),
                 x1 = std::min(size - p.w, best.x + stride - 1);
       for (int x = x0; x <= x1; ++x) {
@@ -248,7 +267,7 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
     }
     if (best.score == std::numeric_limits<long>::max()) return -1;
     placed[ci] = {best.x, best.y, best.rot};
-    const Profile& p = profiles[best.rot];
+    const Profile& p = prof[best.rot];
     used = std::max(used, best.y + p.h);
     for (int c = -padding; c < p.w + padding; ++c) {
       const int x = best.x + c;
