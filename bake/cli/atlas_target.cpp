@@ -5,6 +5,9 @@
 #include <vector>
 
 #include "bake/cli/choice_option.h"
+#include "bake/cli/commands.h"
+#include "bake/cli/report.h"
+#include "bake/util/timing.h"
 #include "mesh_io/file_name.h"
 
 namespace texbake::cli {
@@ -96,6 +99,26 @@ WriteOptions atlas_write_options(const AtlasFlags& flags) {
   WriteOptions options;
   options.format = flags.format;
   return options;
+}
+
+int write_atlas_outputs(const std::filesystem::path& output, const Atlas& atlas,
+                        const WriteOptions& write, const std::string& report_path,
+                        const std::function<std::string(double write_seconds)>& make_report,
+                        const std::function<void(const std::string&)>& on_report,
+                        std::string& written) {
+  const auto stage = Clock::now();
+  if (Status s = write_atlas(output, atlas, write); !s) return report_error(s.error());
+  const std::string report = make_report(seconds_since(stage));
+  if (!report_path.empty()) {
+    if (Status s = write_report_text(report_path, report); !s) return report_error(s.error());
+  }
+  if (on_report) on_report(report);
+  written = output.string();
+  const std::vector<std::filesystem::path> files = atlas_files(output, write);
+  if (files.size() == 3) {
+    written += " (+ " + files[1].filename().string() + ", " + files[2].filename().string() + ")";
+  }
+  return 0;
 }
 
 }  // namespace texbake::cli

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "bake/cli/atlas_target.h"
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
 #include "bake/cli/progress_bar.h"
@@ -100,28 +101,24 @@ int run_layers_atlas(const LayersJob& job, const LayersSpec& spec, const LoadedM
   for (const std::string& w : baked->atlas.stats.warnings) {
     std::cerr << "texbake: warning: " << w << "\n";
   }
-  auto stage = Clock::now();
-  const fs::path output = job.output;
-  if (Status s = write_atlas(output, baked->atlas, job.write); !s) return report_error(s.error());
-  const double write = seconds_since(stage);
-  const double total = seconds_since(start);
-  const std::string report = layers_atlas_report(job, *baked, load, write, total);
-  if (!job.report.empty()) {
-    if (Status s = write_report_text(job.report, report); !s) return report_error(s.error());
+  std::string written;
+  if (int code = write_atlas_outputs(
+          job.output, baked->atlas, job.write, job.report,
+          [&](double write) {
+            return layers_atlas_report(job, *baked, load, write, seconds_since(start));
+          },
+          job.on_report, written);
+      code != 0) {
+    return code;
   }
-  if (job.on_report) job.on_report(report);
   if (!job.quiet) {
     const Counts& c = baked->atlas.stats.counts;
-    std::string written = job.output;
-    const std::vector<fs::path> files = atlas_files(output, job.write);
-    if (files.size() == 3) {
-      written += " (+ " + files[1].filename().string() + ", " + files[2].filename().string() + ")";
-    }
     std::printf(
         "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu uncovered, %zu padded) from "
         "%zu layers in %.2f s -> %s\n",
         baked->atlas.image.width, baked->atlas.image.height, to_string(baked->atlas.uv.used),
-        c.texels, c.samples, c.occluded, c.padded, baked->layers.size(), total, written.c_str());
+        c.texels, c.samples, c.occluded, c.padded, baked->layers.size(), seconds_since(start),
+        written.c_str());
     std::fflush(stdout);
   }
   return 0;

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "bake/cli/atlas_target.h"
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
@@ -198,28 +199,24 @@ int run_photo_bake(const PhotoJob& job) {
     for (const std::string& w : baked->atlas.stats.warnings) {
       std::cerr << "texbake: warning: " << w << "\n";
     }
-    stage = Clock::now();
-    if (Status s = write_atlas(output, baked->atlas, job.write); !s) return report_error(s.error());
-    const double write = seconds_since(stage);
-    const double total = seconds_since(start);
-    const std::string report = photo_atlas_report(job, *baked, load, write, total);
-    if (!job.report.empty()) {
-      if (Status s = write_report_text(job.report, report); !s) return report_error(s.error());
+    std::string written;
+    if (int code = write_atlas_outputs(
+            output, baked->atlas, job.write, job.report,
+            [&](double write) {
+              return photo_atlas_report(job, *baked, load, write, seconds_since(start));
+            },
+            job.on_report, written);
+        code != 0) {
+      return code;
     }
-    if (job.on_report) job.on_report(report);
     if (!job.quiet) {
       const Counts& c = baked->atlas.stats.counts;
-      std::string written = job.output;
-      const std::vector<fs::path> files = atlas_files(output, job.write);
-      if (files.size() == 3) {
-        written +=
-            " (+ " + files[1].filename().string() + ", " + files[2].filename().string() + ")";
-      }
       std::printf(
           "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu unseen, %zu padded) from %zu "
           "photos in %.2f s -> %s\n",
           job.atlas_options.bake.size, job.atlas_options.bake.size, to_string(baked->atlas.uv.used),
-          c.texels, c.samples, c.occluded, c.padded, photos->size(), total, written.c_str());
+          c.texels, c.samples, c.occluded, c.padded, photos->size(), seconds_since(start),
+          written.c_str());
       std::fflush(stdout);
     }
     return 0;
