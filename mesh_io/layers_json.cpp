@@ -163,6 +163,25 @@ Expected<LayerSpec> read_layer(const json& o, const fs::path& folder, const std:
       layer.outside = *k;
     }
   }
+  if (!layer.cameras.empty()) {
+    // Several photos have no single (u, v) to put a mask, a clamp or an
+    // outside colour through, and a photo shows only what its camera saw.
+    if (o.contains("mask")) {
+      return fail(where + ".mask",
+                  "does not apply to a cameras layer (a mask needs a single projector's "
+                  "mapping; give the camera as proxy_file with its photo as texture)");
+    }
+    if (layer.outside != LayerOutside::kTransparent) {
+      return fail(where + ".outside",
+                  "a cameras layer is transparent where no photo sees the surface (only "
+                  "\"transparent\" applies)");
+    }
+    if (layer.visibility != LayerVisibility::kFirst) {
+      return fail(where + ".visibility",
+                  "a cameras layer always tests what each camera sees (only \"first\" "
+                  "applies)");
+    }
+  }
   return layer;
 }
 

@@ -11,7 +11,8 @@
 // object, mesh_io/proxy_json.h), "proxy_file" (a proxy or camera file) and
 // "cameras" (a COLMAP model or camera list, with optional "images").
 // "texture" is required unless the layer has "cameras" (whose photos are
-// the images), where it is an error. Defaults: base "none", opacity 1, mode
+// the images), where it is an error; a "cameras" layer takes no "mask", and
+// only "outside" "transparent" and "visibility" "first". Defaults: base "none", opacity 1, mode
 // "over", no angle fade, visibility "first", outside "transparent".
 //
 // Errors are kParse (kIo when a file cannot be read) and start with the file

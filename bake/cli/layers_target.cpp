@@ -20,17 +20,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// One entry per layer: in_domain, visible, blended (vertices or atlas samples), mean alpha.
+// One entry per layer: its texture (or cameras), in_domain, visible, blended
+// (vertices or atlas samples), mean alpha (timings: per_layer_seconds).
 nlohmann::ordered_json layers_json(const std::vector<LayerStats>& stats) {
   nlohmann::ordered_json layers = nlohmann::ordered_json::array();
   for (const LayerStats& s : stats) {
-    layers.push_back({{"texture", s.name},
+    layers.push_back({{s.photos ? "cameras" : "texture", s.name},
                       {"in_domain", s.in_domain},
                       {"visible", s.visible},
                       {"blended", s.blended},
                       {"mean_alpha", s.mean_alpha}});
   }
   return layers;
+}
+
+// Seconds per layer (LayerStats::seconds), for the report's timings.
+nlohmann::ordered_json per_layer_seconds(const std::vector<LayerStats>& stats) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const LayerStats& s : stats) out.push_back(s.seconds);
+  return out;
 }
 
 // The atlas layers bake's --report: inputs, counts (atlas samples), the
@@ -56,8 +64,9 @@ std::string layers_atlas_report(const LayersJob& job, const LayerAtlas& baked, d
   const Timings& t = st.timings;
   j["timings"] = {{"load", load},     {"uv_layout", t.uv_layout},
                   {"fill", t.fill},   {"scene_build", t.scene_build},
-                  {"layers", t.bake}, {"pad", t.pad},
-                  {"write", write},   {"total", total}};
+                  {"layers", t.bake}, {"per_layer", per_layer_seconds(baked.layers)},
+                  {"pad", t.pad},     {"write", write},
+                  {"total", total}};
   return j.dump(2) + "\n";
 }
 
@@ -79,8 +88,9 @@ std::string layers_report(const LayersJob& job, const LayerColors& baked, double
   j["layers"] = layers_json(baked.layers);
   const Timings& t = baked.stats.timings;
   j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
-                  {"layers", t.bake}, {"fill", t.fill},
-                  {"write", write},   {"total", total}};
+                  {"layers", t.bake}, {"per_layer", per_layer_seconds(baked.layers)},
+                  {"fill", t.fill},   {"write", write},
+                  {"total", total}};
   return j.dump(2) + "\n";
 }
 
@@ -181,6 +191,7 @@ int run_layers_bake(const LayersJob& job) {
   if (job.atlas) return run_layers_atlas(job, *spec, *mesh, options, run, start, load);
   Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh->mesh, *spec, options, run);
   if (!baked) return report_mesh_error(baked.error(), job.mesh);
+  for (const std::string& w : baked->stats.warnings) std::cerr << "texbake: warning: " << w << "\n";
   stage = Clock::now();
   if (Status s = write_vertex_colors(output, mesh->mesh, baked->colors, job.write); !s) {
     return report_error(s.error());

@@ -47,6 +47,7 @@ struct Contribution {
 struct LayerCounts {
   std::size_t in_domain = 0, visible = 0, blended = 0;
   double alpha_sum = 0;
+  double seconds = 0;  // thread time in the layer (the atlas target)
 };
 
 // The prepared layer: working images and wrap rules.
@@ -151,11 +152,36 @@ void layer_block(const Prepared& layer, const Map& map, const Vec3* points, cons
   }
 }
 
-// layer_block through the layer's projector (a camera or any analytic proxy).
+// A "cameras" layer's contributions for the points [begin, end): the
+// photo blend of point ids[i] (atlas samples) or i (vertices).
+void photo_block(const Prepared& layer, const uint32_t* ids, std::size_t begin, std::size_t end,
+                 Contribution* out, LayerCounts& counts) {
+  const LayerInput& in = *layer.input;
+  const PhotoPoints& points = ids ? in.photos->samples : in.photos->vertices;
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::size_t id = ids ? ids[i] : i;
+    Contribution& c = out[i];
+    c = {};
+    const uint8_t state = points.state[id];
+    if (state != PhotoPoints::kNoView) ++counts.in_domain;
+    if (state != PhotoPoints::kSeen) continue;
+    ++counts.visible;
+    c.rgb = points.rgb[id];
+    c.a = static_cast<float>(in.opacity) * fade(layer, points.cosine[id]);
+    if (c.a > 0) ++counts.blended;
+    counts.alpha_sum += c.a;
+  }
+}
+
+// layer_block through the layer's projector (a camera or any analytic
+// proxy), or photo_block for a "cameras" layer (sample_ids: the atlas
+// samples' indices in its PhotoLayerPoints::samples; null for vertices).
 void contributions(const Prepared& layer, const Vec3* points, const Vec3* normals,
                    const EmbreeScene* scene, double offset, std::size_t begin, std::size_t end,
-                   Contribution* out, LayerCounts& counts) {
-  if (layer.camera) {
+                   Contribution* out, LayerCounts& counts, const uint32_t* sample_ids = nullptr) {
+  if (layer.input->photos) {
+    photo_block(layer, sample_ids, begin, end, out, counts);
+  } else if (layer.camera) {
     const CameraProjector& cam = *layer.camera;
     layer_block(
         layer, [&](Vec3 p) { return cam.inverse_map(p); }, points, normals, scene, offset, begin,
@@ -172,22 +198,35 @@ void contributions(const Prepared& layer, const Vec3* points, const Vec3* normal
 }
 
 // One layer's image and rules, ready for layer_block.
-Expected<Prepared> prepare(const LayerInput& in) {
+Expected<Prepared> prepare(const LayerInput& in, std::size_t vertex_count,
+                           std::size_t sample_count = 0) {
+  Prepared layer;
+  layer.input = &in;
+  if (in.angle_fade) {
+    layer.cos_a0 = std::cos((*in.angle_fade)[0] * std::numbers::pi / 180);
+    layer.cos_a1 = std::cos((*in.angle_fade)[1] * std::numbers::pi / 180);
+  }
+  if (in.photos) {
+    const PhotoLayerPoints& p = *in.photos;
+    const auto complete = [](const PhotoPoints& pts, std::size_t n) {
+      return pts.state.size() == n && pts.rgb.size() == n && pts.cosine.size() == n;
+    };
+    if (!complete(p.vertices, vertex_count) ||
+        (sample_count > 0 && !complete(p.samples, sample_count))) {
+      return make_error(ErrorCode::kInvalidArgument,
+                        in.name + ": the cameras layer's photo blend does not match the points");
+    }
+    return layer;
+  }
   if (in.texture.width < 1 || in.texture.height < 1 || !in.texture.data) {
     return make_error(ErrorCode::kInvalidArgument, in.name + ": the layer's image is empty");
   }
-  Prepared layer;
-  layer.input = &in;
   layer.texture = premultiplied_linear(in.texture);
   layer.view = {in.texture.width, in.texture.height, layer.texture.data(), ColorSpace::kLinear};
   layer.camera = std::get_if<CameraProjector>(&in.projector);
   if (const Proxy* proxy = std::get_if<Proxy>(&in.projector)) {
     layer.wrap_u = wrap_u(*proxy);
     layer.wrap_v = wrap_v(*proxy);
-  }
-  if (in.angle_fade) {
-    layer.cos_a0 = std::cos((*in.angle_fade)[0] * std::numbers::pi / 180);
-    layer.cos_a1 = std::cos((*in.angle_fade)[1] * std::numbers::pi / 180);
   }
   const Rgba oc = srgb_to_linear(in.outside_color);
   layer.outside_rgb = {oc[0], oc[1], oc[2]};
@@ -236,7 +275,7 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   LayersBakeResult result;
   auto start = Clock::now();
   const bool needs_scene = std::any_of(layers.begin(), layers.end(), [](const LayerInput& l) {
-    return l.visibility == LayerVisibility::kFirst;
+    return !l.photos && l.visibility == LayerVisibility::kFirst;
   });
   std::optional<EmbreeScene> scene;
   double offset = 0;
@@ -268,7 +307,8 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   }
   std::vector<Contribution> contribution(n);
   for (const LayerInput& in : layers) {
-    Expected<Prepared> prepared = prepare(in);
+    const auto layer_start = Clock::now();
+    Expected<Prepared> prepared = prepare(in, n);
     if (!prepared) return prepared.error();
     const Prepared& layer = *prepared;
     std::vector<LayerCounts> block_counts(block_count(n, kGrain));
@@ -278,6 +318,7 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
     });
     LayerStats stats;
     stats.name = in.name;
+    stats.photos = in.photos != nullptr;
     double alpha_sum = 0;
     for (const LayerCounts& c : block_counts) {
       stats.in_domain += c.in_domain;
@@ -286,12 +327,13 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
       alpha_sum += c.alpha_sum;
     }
     stats.mean_alpha = n ? alpha_sum / static_cast<double>(n) : 0;
-    result.layers.push_back(stats);
 
     // Composite (straight colour B, coverage alpha), in linear light.
     parallel_for_chunks(n, kGrain, [&](std::size_t begin, std::size_t end) {
       for (std::size_t v = begin; v < end; ++v) composite(in.mode, contribution[v], colour[v]);
     });
+    stats.seconds = seconds_since(layer_start);
+    result.layers.push_back(stats);
   }
   result.seconds_layers = seconds_since(start);
 
@@ -342,7 +384,21 @@ struct AtlasWorker {
   std::vector<Vec3> points, normals;
   std::vector<Rgba> colour;  // straight linear colour and coverage per sample
   std::vector<Contribution> contribution;
+  std::vector<uint32_t> ids;  // a "cameras" layer: the samples' indices in its blend
 };
+
+// The band's sample indices in a "cameras" layer's blend (false: the blend
+// does not cover one of the band's texels).
+bool photo_sample_ids(const PhotoLayerPoints& photos, const AtlasRaster& r, std::size_t spt,
+                      std::vector<uint32_t>& ids) {
+  ids.resize(r.texels.size() * spt);
+  for (std::size_t k = 0; k < r.texels.size(); ++k) {
+    const uint32_t first = photos.texel_first[r.texels[k]];
+    if (first == PhotoLayerPoints::kNoTexel || first + spt > photos.samples.size()) return false;
+    for (std::size_t j = 0; j < spt; ++j) ids[k * spt + j] = static_cast<uint32_t>(first + j);
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -376,9 +432,15 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   // Layers ready (all at once: every band goes through every layer).
   std::vector<Prepared> prepared;
   prepared.reserve(layers.size());
+  const std::size_t atlas_texels = static_cast<std::size_t>(options.size) * options.size;
   for (const LayerInput& in : layers) {
-    Expected<Prepared> p = prepare(in);
+    Expected<Prepared> p = prepare(in, uv_mesh.positions.size());
     if (!p) return p.error();
+    if (in.photos && (in.photos->texel_first.size() != atlas_texels ||
+                      in.photos->samples.size() % static_cast<std::size_t>(options.samples))) {
+      return make_error(ErrorCode::kInvalidArgument,
+                        in.name + ": the cameras layer's photo blend is not this atlas's");
+    }
     prepared.push_back(std::move(p).value());
   }
 
@@ -386,11 +448,13 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   auto start = Clock::now();
   const bool fill = lo.occluded != OccludedMode::kColor;
   std::vector<Rgba> fill_colors;
+  std::vector<double> fill_seconds(layers.size(), 0.0);
   if (fill) {
     LayersBakeOptions vo = lo;
     if (base_texture) vo.base = LayerBase::kNone;
     Expected<LayersBakeResult> vertex = bake_vertex_layers(uv_mesh, layers, vo);
     if (!vertex) return vertex.error();
+    for (std::size_t l = 0; l < layers.size(); ++l) fill_seconds[l] = vertex->layers[l].seconds;
     fill_colors = std::move(vertex->colors);
     for (Rgba& c : fill_colors) c = srgb_to_linear(c);
   }
@@ -398,7 +462,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
 
   start = Clock::now();
   const bool needs_scene = std::any_of(layers.begin(), layers.end(), [](const LayerInput& l) {
-    return l.visibility == LayerVisibility::kFirst;
+    return !l.photos && l.visibility == LayerVisibility::kFirst;
   });
   std::optional<EmbreeScene> scene;
   double offset = 0;
@@ -432,7 +496,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   std::vector<LayerCounts> counts(band_count * layers.size());
   std::vector<std::size_t> band_texels(band_count, 0), band_samples(band_count, 0),
       band_border(band_count, 0), band_uncovered(band_count, 0);
-  std::vector<uint8_t> band_opaque(band_count, 1);
+  std::vector<uint8_t> band_opaque(band_count, 1), band_mismatch(band_count, 0);
   if (progress) progress->start("sample", static_cast<std::size_t>(n));
   parallel_for_chunks(band_count, 1, [&](std::size_t band_begin, std::size_t band_end) {
     AtlasWorker w;
@@ -486,10 +550,18 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
         }
       }
       for (std::size_t l = 0; l < prepared.size(); ++l) {
+        const auto layer_start = Clock::now();
+        LayerCounts& c = counts[band * layers.size() + l];
+        if (layers[l].photos && !photo_sample_ids(*layers[l].photos, r, spt, w.ids)) {
+          band_mismatch[band] = 1;
+          return;
+        }
         contributions(prepared[l], w.points.data(), w.normals.data(), scene ? &*scene : nullptr,
-                      offset, 0, m, w.contribution.data(), counts[band * layers.size() + l]);
+                      offset, 0, m, w.contribution.data(), c,
+                      layers[l].photos ? w.ids.data() : nullptr);
         const LayerMode mode = layers[l].mode;
         for (std::size_t s = 0; s < m; ++s) composite(mode, w.contribution[s], w.colour[s]);
+        c.seconds += seconds_since(layer_start);
       }
       // Texels: the mean in premultiplied linear light, straight sRGB out.
       std::size_t uncovered = 0;
@@ -543,6 +615,10 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
     }
   });
   if (progress && progress->cancelled()) return cancelled_error();
+  if (std::any_of(band_mismatch.begin(), band_mismatch.end(), [](uint8_t b) { return b; })) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "a cameras layer's photo blend does not cover this atlas's texels");
+  }
   if (progress) progress->finish();
   scene.reset();
   for (std::size_t band = 0; band < band_count; ++band) {
@@ -552,9 +628,20 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
     result.uncovered += band_uncovered[band];
     if (!band_opaque[band]) result.opaque = false;
   }
+  result.seconds_layers = seconds_since(start);
+  // Each layer's share of the stage's wall time, by the threads' time in it.
+  std::vector<double> thread_seconds(layers.size(), 0.0);
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    for (std::size_t band = 0; band < band_count; ++band) {
+      thread_seconds[l] += counts[band * layers.size() + l].seconds;
+    }
+  }
+  double thread_total = 0;
+  for (double t : thread_seconds) thread_total += t;
   for (std::size_t l = 0; l < layers.size(); ++l) {
     LayerStats stats;
     stats.name = layers[l].name;
+    stats.photos = layers[l].photos != nullptr;
     double alpha_sum = 0;
     for (std::size_t band = 0; band < band_count; ++band) {
       const LayerCounts& c = counts[band * layers.size() + l];
@@ -564,9 +651,11 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
       alpha_sum += c.alpha_sum;
     }
     stats.mean_alpha = result.samples ? alpha_sum / static_cast<double>(result.samples) : 0;
+    stats.seconds =
+        fill_seconds[l] +
+        (thread_total > 0 ? result.seconds_layers * thread_seconds[l] / thread_total : 0);
     result.layers.push_back(stats);
   }
-  result.seconds_layers = seconds_since(start);
 
   start = Clock::now();
   result.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);

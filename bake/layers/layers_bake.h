@@ -41,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "bake/photo/photo_bake.h"
 #include "bake/shade/options.h"
 #include "bake/util/progress.h"
 #include "mapping/error.h"
@@ -52,10 +53,30 @@
 
 namespace texbake {
 
+// A "cameras" layer's colours: the photo bake's blend per point
+// (bake/photo/photo_bake.h, PhotoBakeOptions::keep_points), for the points
+// the layers are baked on. Per point: L = the blend (linear light),
+// seen = kSeen, the angle fade at the blend-weighted mean angle to the
+// cameras (PhotoPoints::cosine), image alpha and mask 1; a point in no
+// camera's view (kNoView) is outside (transparent, or the layer's outside
+// colour), one occluded from every camera (kInView) not seen. The stats:
+// in domain = in some camera's view, visible = seen.
+struct PhotoLayerPoints {
+  PhotoPoints vertices;  // per vertex of the mesh (for the atlas: of uv_mesh, for the fill)
+  PhotoPoints samples;   // the atlas target: per supersample, texel-major
+  // The atlas target: per texel (y * size + x) the index of its first
+  // sample in `samples` (its samples follow), kNoTexel when not covered.
+  std::vector<uint32_t> texel_first;
+  static constexpr uint32_t kNoTexel = 0xffffffffu;
+};
+
 // One layer, ready to bake: its projector and images (any colour space:
-// sampled in linear light). The mask view is empty (data null) when none.
+// sampled in linear light), or its photos' blend (`photos` set: then the
+// projector, texture and mask are not used). The mask view is empty (data
+// null) when none.
 struct LayerInput {
-  std::string name;  // for the report (e.g. the texture's file name)
+  std::string name;                          // for the report (e.g. the texture's file name)
+  const PhotoLayerPoints* photos = nullptr;  // a "cameras" layer (outlives the bake)
   Projector projector;
   ImageView texture;
   bool texture_has_alpha = true;
@@ -78,6 +99,10 @@ struct LayersBakeOptions {
 
 struct LayerStats {
   std::string name;
+  // Seconds spent on this layer: its share of the layers stage (by the
+  // threads' time in it), plus for a "cameras" layer the photo bake.
+  double seconds = 0;
+  bool photos = false;        // a "cameras" layer (name: its model or list)
   std::size_t in_domain = 0;  // samples the projector maps inside its (u, v) domain
   std::size_t visible = 0;    // of the mapped samples, those it sees
   std::size_t blended = 0;    // samples with a > 0

@@ -118,6 +118,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   result.vertices_seen = vertex->seen;
   result.vertices_filled = vertex->filled;
   result.vertices_unfilled = vertex->unfilled;
+  result.vertex_points = std::move(vertex->points);
   std::vector<Rgba> fill_colors;  // linear light
   if (fill) {
     fill_colors = std::move(vertex->colors);
@@ -146,6 +147,8 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   std::vector<uint32_t> best;
   if (po.blend == PhotoBlend::kBest) best.assign(ns, 0);
   std::vector<std::vector<uint64_t>> seen_by(photos.size());
+  PhotoPoints& blend = result.sample_points;
+  if (po.keep_points) blend.state.assign(ns, PhotoPoints::kNoView);
   for (std::size_t c = 0; c < photos.size(); ++c) {
     const CameraLook look(photos[c].camera, po.max_view_angle_deg);
     std::vector<uint64_t>& bits = seen_by[c];
@@ -162,6 +165,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
         const SurfacePoint sp = surface_point(uv_mesh, normals, raster, s);
         CameraProjection proj;
         if (!candidate(look, sp, proj)) continue;
+        if (po.keep_points) blend.state[s] = PhotoPoints::kInView;
         candidates.push_back(static_cast<uint32_t>(s));
         points.push_back(sp.p);
         surface.push_back(sp);
@@ -215,6 +219,8 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
 
   // 5. Colour pass, one photo at a time.
   std::vector<std::array<float, 3>> rgb(ns, {0.f, 0.f, 0.f});
+  std::vector<float> cosine;  // keep_points: the weighted sum of cos(theta)
+  if (po.keep_points) cosine.assign(ns, 0.f);
   for (std::size_t c = 0; c < photos.size(); ++c) {
     const Photo& photo = photos[c];
     PhotoCameraStats scratch_stats;
@@ -238,6 +244,9 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
         if (!(w > 0)) return;
         const Rgba x = sample_bilinear(view, proj.uv, WrapMode::kClamp, WrapMode::kClamp);
         for (int ch = 0; ch < 3; ++ch) rgb[s][ch] += static_cast<float>(w * gain[ch] * x[ch]);
+        if (!cosine.empty()) {
+          cosine[s] += static_cast<float>(w * dot(sp.n, normalize(look.centre() - sp.p)));
+        }
         block_share += w;
       });
       share[block] = block_share;
@@ -309,6 +318,18 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   // 7. Pad.
   result.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);
   result.seconds_pad = seconds_since(t0);
+  if (po.keep_points) {
+    for (std::size_t s = 0; s < ns; ++s) {
+      if (q_max[s] > 0) {
+        blend.state[s] = PhotoPoints::kSeen;
+      } else {
+        cosine[s] = 1;
+      }
+    }
+    blend.rgb = std::move(rgb);
+    blend.cosine = std::move(cosine);
+    result.sample_texels = raster.texels;
+  }
   return result;
 }
 

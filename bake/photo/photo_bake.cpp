@@ -116,6 +116,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   std::vector<std::vector<std::pair<uint32_t, Sample>>> seen_by(photos.size());
   std::vector<float> quality(n);
   std::vector<std::array<float, 3>> rgb(n);
+  PhotoPoints& points = result.points;
+  if (options.keep_points) points.state.assign(n, PhotoPoints::kNoView);
   for (std::size_t c = 0; c < photos.size(); ++c) {
     const Photo& photo = photos[c];
     const CameraProjector& camera = photo.camera;
@@ -140,6 +142,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
         CameraProjection proj;
         if (!look.candidate(p, nrm, proj)) continue;
+        if (options.keep_points) points.state[v] = PhotoPoints::kInView;
         candidates.push_back(static_cast<uint32_t>(v));
         projections.push_back(proj);
       }
@@ -208,6 +211,10 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   // Blend per vertex, in linear light.
   std::vector<Rgba> colors(n, Rgba{0, 0, 0, 1});
   std::vector<uint8_t> unknown(n, 0);
+  if (options.keep_points) {
+    points.rgb.assign(n, {0.f, 0.f, 0.f});
+    points.cosine.assign(n, 1.f);
+  }
   std::vector<std::vector<double>> share_chunk(block_count(n, kGrain),
                                                std::vector<double>(photos.size(), 0.0));
   parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
@@ -240,6 +247,18 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
       for (uint32_t i = s0; i < s1; ++i) share[samples[i].camera] += weight[i - s0] / total;
       colors[v] = {static_cast<float>(sum[0] / total), static_cast<float>(sum[1] / total),
                    static_cast<float>(sum[2] / total), 1};
+      if (options.keep_points) {
+        const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
+        const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
+        double cosine = 0;
+        for (uint32_t i = s0; i < s1; ++i) {
+          const Vec3 d = normalize(photos[samples[i].camera].camera.centre() - p);
+          cosine += weight[i - s0] * dot(nrm, d) / length(nrm);
+        }
+        points.state[v] = PhotoPoints::kSeen;
+        points.rgb[v] = {colors[v][0], colors[v][1], colors[v][2]};
+        points.cosine[v] = static_cast<float>(cosine / total);
+      }
     }
   });
   result.seen = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 0));

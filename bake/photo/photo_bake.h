@@ -31,6 +31,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -69,6 +70,27 @@ struct PhotoBakeOptions {
   double max_view_angle_deg = 75;
   // How the photos' colour space is taken (--texture-colorspace).
   TextureColorSpace color_space = TextureColorSpace::kAuto;
+  // Keep the blend per point (PhotoPoints below: a "cameras" layer,
+  // bake/layers/layers_bake.h, composites it instead of the colours).
+  bool keep_points = false;
+};
+
+// The blend of every point (vertex, or atlas supersample) before any fill,
+// with PhotoBakeOptions::keep_points: what a "cameras" layer composites.
+struct PhotoPoints {
+  enum State : uint8_t {
+    kNoView = 0,  // in no camera's view (outside every photo, behind, or turned away)
+    kInView = 1,  // in some camera's view (the cull), but occluded from all of them
+    kSeen = 2,    // seen by at least one camera: rgb and cosine hold its blend
+  };
+  std::vector<uint8_t> state;
+  std::vector<std::array<float, 3>>
+      rgb;  // the blend in linear light, gains applied (0 unless kSeen)
+  // The blend-weighted mean of cos(theta) between the point's normal and the
+  // directions to the cameras that see it (1 unless kSeen): a layer's angle
+  // fade takes this angle.
+  std::vector<float> cosine;
+  std::size_t size() const { return state.size(); }
 };
 
 struct PhotoCameraStats {
@@ -88,6 +110,7 @@ struct PhotoBakeResult {
   std::size_t filled = 0;    // unseen vertices coloured by the fill
   std::size_t unfilled = 0;  // unseen vertices in components no photo sees
   std::vector<std::string> warnings;
+  PhotoPoints points;  // per vertex, with PhotoBakeOptions::keep_points (else empty)
   double seconds_scene = 0, seconds_photos = 0, seconds_blend = 0, seconds_fill = 0;
 };
 

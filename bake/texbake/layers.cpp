@@ -3,6 +3,7 @@
 // images, and bake/layers behind the API's conventions.
 #include <algorithm>
 #include <optional>
+#include <string>
 
 #include "bake/texbake/run.h"
 #include "bake/util/progress.h"
@@ -22,16 +23,55 @@ namespace {
 
 Status check_layer_specs(const LayersSpec& spec) {
   if (spec.layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
-  for (std::size_t i = 0; i < spec.layers.size(); ++i) {
-    if (!spec.layers[i].cameras.empty()) {
-      return make_error(
-          ErrorCode::kUnsupported,
-          "layers[" + std::to_string(i) +
-              "]: a \"cameras\" layer (several photos) "
-              "is not supported yet; a single camera as \"proxy\" or \"proxy_file\" is");
-    }
-  }
   return ok_status();
+}
+
+// The layers file's base (spec.base, base_color) over the options'.
+LayersBakeOptions with_spec_base(LayersBakeOptions options, const LayersSpec& spec) {
+  options.base = spec.base;
+  options.base_color = spec.base_color;
+  return options;
+}
+
+// A "cameras" layer's name in the report: its model folder or list, with
+// the folder above a numbered COLMAP model (sparse/0).
+std::string cameras_name(const std::filesystem::path& cameras) {
+  const std::string leaf = cameras.filename().string();
+  const bool numbered = !leaf.empty() && std::all_of(leaf.begin(), leaf.end(),
+                                                     [](char c) { return c >= '0' && c <= '9'; });
+  const std::filesystem::path parent = cameras.parent_path().filename();
+  return numbered && !parent.empty() ? (parent / leaf).generic_string() : leaf;
+}
+
+// The photos of every "cameras" layer (by layer index; empty for the others).
+Expected<std::vector<std::vector<Photo>>> read_layer_cameras(const LayersSpec& spec) {
+  std::vector<std::vector<Photo>> photos(spec.layers.size());
+  for (std::size_t i = 0; i < spec.layers.size(); ++i) {
+    const LayerSpec& l = spec.layers[i];
+    if (l.cameras.empty()) continue;
+    Expected<std::vector<Photo>> read = read_cameras(l.cameras, l.images);
+    if (!read) {
+      Error e = read.error();
+      e.message = "layers[" + std::to_string(i) + "]: " + e.message;
+      return e;
+    }
+    photos[i] = std::move(read).value();
+  }
+  return photos;
+}
+
+// The photo bake of a "cameras" layer: its blend per point, not filled.
+PhotoBakeOptions layer_photo_options() {
+  PhotoBakeOptions o;
+  o.keep_points = true;
+  o.occluded = OccludedMode::kColor;  // unseen points are transparent: no fill needed
+  return o;
+}
+
+void add_photo_warnings(std::size_t layer, const std::vector<std::string>& warnings,
+                        std::vector<std::string>& out) {
+  for (const std::string& w : warnings)
+    out.push_back("layers[" + std::to_string(layer) + "]: " + w);
 }
 
 // Every layer's texture and mask, read into `images` (which must outlive
@@ -43,6 +83,18 @@ Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Prog
   for (const LayerSpec& l : spec.layers) {
     if (progress.cancelled()) return cancelled_error();
     LayerInput in;
+    in.opacity = l.opacity;
+    in.mode = l.mode;
+    in.angle_fade = l.angle_fade;
+    in.visibility = l.visibility;
+    in.outside = l.outside;
+    in.outside_color = l.outside_color;
+    if (!l.cameras.empty()) {  // its photos are baked later (bake_layer_photos)
+      in.name = cameras_name(l.cameras);
+      inputs.push_back(std::move(in));
+      progress.advance(1);
+      continue;
+    }
     in.name = l.texture.filename().string();
     in.projector = *l.projector;
     Expected<Image> texture = read_image(l.texture);
@@ -57,12 +109,6 @@ Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Prog
       in.mask = images.back().view();
       in.mask_has_alpha = images.back().has_alpha;
     }
-    in.opacity = l.opacity;
-    in.mode = l.mode;
-    in.angle_fade = l.angle_fade;
-    in.visibility = l.visibility;
-    in.outside = l.outside;
-    in.outside_color = l.outside_color;
     inputs.push_back(std::move(in));
     progress.advance(1);
   }
@@ -72,8 +118,9 @@ Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Prog
 }  // namespace
 
 Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const LayersSpec& spec,
-                                                     const LayersBakeOptions& options,
+                                                     const LayersBakeOptions& given,
                                                      const RunOptions& run) {
+  const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
   if (Status s = check_layer_specs(spec); !s) return s.error();
   if (Status s = check_triangles(mesh); !s) return s.error();
@@ -82,14 +129,32 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     progress.start("layers", spec.layers.size());
     // The images stay alive for the bake: every layer's texture and mask.
     std::vector<Image> images;
+    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec);
+    if (!photos) return photos.error();
     Expected<std::vector<LayerInput>> inputs = read_layer_inputs(spec, progress, images);
     if (!inputs) return inputs.error();
+    LayerColors out;
+    // "cameras" layers: the photo bake's blend per vertex.
+    std::vector<PhotoLayerPoints> blends(spec.layers.size());
+    std::vector<double> photo_seconds(spec.layers.size(), 0.0);
+    for (std::size_t i = 0; i < spec.layers.size(); ++i) {
+      if ((*photos)[i].empty()) continue;
+      if (progress.cancelled()) return cancelled_error();
+      const auto photo_start = Clock::now();
+      Expected<PhotoBakeResult> blend =
+          bake_vertex_from_photos(mesh, (*photos)[i], layer_photo_options());
+      if (!blend) return detail::as_input(blend.error());
+      add_photo_warnings(i, blend->warnings, out.stats.warnings);
+      blends[i].vertices = std::move(blend->points);
+      (*inputs)[i].photos = &blends[i];
+      photo_seconds[i] = seconds_since(photo_start);
+    }
     Expected<LayersBakeResult> baked = bake_vertex_layers(mesh, *inputs, options);
     if (!baked) return detail::as_input(baked.error());
     progress.finish();
-    LayerColors out;
     out.colors = std::move(baked->colors);
     out.layers = std::move(baked->layers);
+    for (std::size_t i = 0; i < out.layers.size(); ++i) out.layers[i].seconds += photo_seconds[i];
     Counts& c = out.stats.counts;
     c = detail::mesh_counts(mesh);
     c.samples = mesh.positions.size() * spec.layers.size();
@@ -105,9 +170,10 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
 }
 
 Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const LayersSpec& spec,
-                                                    const LayersBakeOptions& options,
+                                                    const LayersBakeOptions& given,
                                                     const AtlasOptions& atlas,
                                                     const RunOptions& run) {
+  const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
   if (Status s = check_layer_specs(spec); !s) return s.error();
   if (atlas.uv == UvLayout::kProxy) {
@@ -145,12 +211,41 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
   return detail::run_call<LayerAtlas>(run, [&]() -> Expected<LayerAtlas> {
     progress.start("layers", spec.layers.size());
     std::vector<Image> images;
+    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec);
+    if (!photos) return photos.error();
     Expected<std::vector<LayerInput>> inputs = read_layer_inputs(spec, progress, images);
     if (!inputs) return inputs.error();
     progress.finish();
     LayerAtlas out;
     if (Status s = detail::lay_out_atlas(mesh, nullptr, resolved, progress, out.atlas); !s) {
       return s.error();
+    }
+    // "cameras" layers: the photo atlas bake's blend per vertex and sample.
+    std::vector<PhotoLayerPoints> blends(spec.layers.size());
+    std::vector<double> photo_seconds(spec.layers.size(), 0.0);
+    for (std::size_t i = 0; i < spec.layers.size(); ++i) {
+      if ((*photos)[i].empty()) continue;
+      if (progress.cancelled()) return cancelled_error();
+      const auto photo_start = Clock::now();
+      PhotoAtlasBakeOptions po;
+      po.size = resolved.bake.size;
+      po.samples = resolved.bake.samples;
+      po.padding = 0;
+      po.photo = layer_photo_options();
+      Expected<PhotoAtlasBakeResult> blend =
+          bake_atlas_from_photos(out.atlas.mesh, (*photos)[i], po);
+      if (!blend) return detail::as_input(blend.error());
+      add_photo_warnings(i, blend->warnings, out.atlas.stats.warnings);
+      PhotoLayerPoints& b = blends[i];
+      b.vertices = std::move(blend->vertex_points);
+      b.samples = std::move(blend->sample_points);
+      b.texel_first.assign(static_cast<std::size_t>(po.size) * po.size, PhotoLayerPoints::kNoTexel);
+      const auto spt = static_cast<uint32_t>(po.samples);
+      for (std::size_t k = 0; k < blend->sample_texels.size(); ++k) {
+        b.texel_first[blend->sample_texels[k]] = static_cast<uint32_t>(k) * spt;
+      }
+      (*inputs)[i].photos = &b;
+      photo_seconds[i] = seconds_since(photo_start);
     }
     if (options.base == LayerBase::kMesh && !base_texture && out.atlas.mesh.vertex_colors.empty()) {
       out.atlas.mesh.vertex_colors = mesh.vertex_colors;  // generated charts: same vertices
@@ -167,6 +262,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     out.atlas.image = std::move(baked->atlas);
     out.atlas.blend = !baked->opaque;
     out.layers = std::move(baked->layers);
+    for (std::size_t i = 0; i < out.layers.size(); ++i) out.layers[i].seconds += photo_seconds[i];
     Counts& c = out.atlas.stats.counts;
     c = detail::mesh_counts(mesh);
     c.texels = baked->texels;

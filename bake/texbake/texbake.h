@@ -250,12 +250,21 @@ struct LayerColors {
                 // filled; timings.scene_build, bake (layers), fill, total
 };
 
-// Vertex colours composited from the layers of `spec` over its base (the
-// contract of bake/layers/layers_bake.h): every layer's texture and mask are
-// read here (any format OpenImageIO reads; sampled in linear light). Errors:
+// Vertex colours composited from the layers of `spec` over its base
+// (spec.base and base_color; of `options` only the occluded rule is used;
+// the contract of bake/layers/layers_bake.h): every layer's texture and mask
+// are read here (any format OpenImageIO reads; sampled in linear light). A
+// "cameras" layer's photos (read_cameras with its "images") are baked first
+// with the photo bake's rules (bake/photo/photo_bake.h: --blend soft,
+// exposure gains, the 75-degree cut, visibility along the segment to each
+// camera), and the layer composites that blend where some photo sees the
+// point, with the angle fade at the blend-weighted mean angle to its
+// cameras; elsewhere it is transparent. Its photo warnings (a photo scaled
+// to its camera) are in stats.warnings, prefixed "layers[i]: ". Errors:
 // kInput (an image unreadable; base "mesh" on a mesh without vertex
-// colours), kUnsupported (a "cameras" layer: not yet; a camera proxy layer
-// is), kInternal. Progress stage: "layers" (per layer read).
+// colours; a camera model, list or photo unreadable or of the wrong size,
+// prefixed "layers[i]: "), kUsage (a COLMAP model outside a workspace and
+// no "images"), kInternal. Progress stage: "layers" (per layer read).
 Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const LayersSpec& spec,
                                                      const LayersBakeOptions& options = {},
                                                      const RunOptions& run = {});
@@ -325,13 +334,16 @@ struct LayerAtlas {
 // (or kAuto on a mesh with UVs); a mesh without a texture but with vertex
 // colours gives them, interpolated over each triangle (any layout).
 // atlas.bake.size 0 means the base texture's size (its larger side), else
-// 2048. atlas.bake.shading is not used (options holds the occluded rule).
+// 2048. atlas.bake.shading is not used (options holds the occluded rule;
+// the base is spec's). A "cameras" layer is the photo atlas bake's blend
+// per supersample (bake/photo/photo_atlas.h) on the same layout, before
+// any texel averaging, composited per sample as in the vertex target.
 // Errors: kUsage (atlas options out of range, --uv proxy, kMesh on a mesh
 // without UVs, base "mesh" as a texture with another layout), kInput (an
 // image or the mesh's texture unreadable, base "mesh" on a mesh with
 // neither texture nor vertex colours, a mesh with no non-degenerate
-// triangle or that the layout cannot chart), kUnsupported (a "cameras"
-// layer), kInternal, kCancelled. Progress stages: "layers" (per layer
+// triangle or that the layout cannot chart; a "cameras" layer's as for
+// the vertex target), kInternal, kCancelled. Progress stages: "layers" (per layer
 // read), "uv_layout", "sample" (per atlas row).
 Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const LayersSpec& spec,
                                                     const LayersBakeOptions& options = {},

@@ -115,6 +115,68 @@ TEST_F(LayersCli, ADecalOverTheMeshColoursLeavesThemElsewhere) {
   EXPECT_GT(lighter, inside / 3);  // the front half of the slab the decal projects through
 }
 
+// A "cameras" layer (a COLMAP workspace rendered from the bunny's Earth
+// bake) over base "none" is `bake --cameras` where some photo sees the
+// vertex (identical RGB, alpha 255) and transparent elsewhere; on the
+// atlas (same layout: the bunny has no UVs, both generate them the same
+// way) every texel all of whose samples are seen is the photo atlas's.
+TEST_F(LayersCli, ACamerasLayerIsThePhotoBakeWherePhotosSeeTheSurface) {
+  const std::string bunny = q(kData + "/bunny00.off");
+  testing_cli::RunResult r = run_texbake(
+      "render " + bunny + " --texture " + q(kData + "/earth.jpg") +
+      " --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator 0,0,1 --unlit --views 4 "
+      "--size 320x240 --colmap " +
+      q(dir_ / "ws"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  write("L.json", R"({"layers":[{"cameras":"ws/sparse/0"}]})");
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "L.json") + " -q --report " +
+                  q(dir_ / "r.json") + " -o " + q(dir_ / "layers.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_texbake("bake " + bunny + " --cameras " + q(dir_ / "ws/sparse/0") + " -q -o " +
+                  q(dir_ / "photos.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto layers = colours(dir_ / "layers.ply"), photos = colours(dir_ / "photos.ply");
+  ASSERT_EQ(layers.size(), photos.size());
+  std::size_t seen = 0;
+  for (std::size_t v = 0; v < layers.size(); ++v) {
+    ASSERT_TRUE(layers[v][3] == 0 || layers[v][3] == 255) << "vertex " << v;
+    if (layers[v][3] == 0) continue;
+    ++seen;
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(layers[v][c], photos[v][c]) << "vertex " << v;
+  }
+  EXPECT_GT(seen, 20000u);
+  EXPECT_LT(seen, layers.size());
+  const std::string report = testing_cli::slurp(dir_ / "r.json");
+  EXPECT_NE(report.find("\"cameras\": \"sparse/0\""), std::string::npos) << report;
+  EXPECT_NE(report.find("\"visible\": " + std::to_string(seen)), std::string::npos) << report;
+  EXPECT_NE(report.find("\"per_layer\": ["), std::string::npos) << report;
+
+  // The atlas target.
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "L.json") +
+                  " --target atlas --size 256 --padding 0 -q -o " + q(dir_ / "layers.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_texbake("bake " + bunny + " --cameras " + q(dir_ / "ws/sparse/0") +
+                  " --target atlas --size 256 --padding 0 -q -o " + q(dir_ / "photos.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  Expected<Image> a = read_image(dir_ / "layers.png"), b = read_image(dir_ / "photos.png");
+  ASSERT_TRUE(a && b);
+  ASSERT_EQ(a->width, b->width);
+  std::size_t opaque = 0, transparent = 0;
+  for (std::size_t t = 0; t < a->pixels.size() / 4; ++t) {
+    const float alpha = a->pixels[4 * t + 3];
+    if (alpha == 1) {
+      ++opaque;
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_NEAR(a->pixels[4 * t + c], b->pixels[4 * t + c], 1.01 / 255) << "texel " << t;
+      }
+    } else if (alpha == 0) {
+      ++transparent;
+    }
+  }
+  EXPECT_GT(opaque, 10000u);
+  EXPECT_GT(transparent, 1000u);
+}
+
 TEST_F(LayersCli, CoverageIsTheGlbAlphaMode) {
   write("L.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":")" +
                       kData + R"(/earth.jpg","opacity":0.5}]})");

@@ -1,0 +1,259 @@
+// "cameras" layers (SPEC section 10 with section 9's photos) through the
+// public API: photos of one constant colour written as 8-bit PNGs beside a
+// JSON camera list, a layers file naming it, and the results worked out by
+// hand in linear light (the sRGB formulas written out here, not texbake's):
+// the over mix at an opacity, the exposure gains making two photos agree,
+// the angle fade at the angle to the camera (and the 75-degree cut), the
+// occluded points keeping the base, for the vertex and the atlas targets.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include "tests/bake/test_meshes.h"
+#include "tests/bake/texbake/api_test_util.h"
+#include "texbake/texbake.h"
+
+namespace texbake {
+namespace {
+
+namespace fs = std::filesystem;
+
+double to_linear(double s) {
+  return s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4);
+}
+double to_srgb(double l) {
+  return l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055;
+}
+
+// A fresh folder per test.
+fs::path test_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path dir = fs::path(::testing::TempDir()) / "texbake_layers_cameras" / info->name();
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+// The square [-1, 1]^2 in z = 0 facing +z, 8 x 8 cells; with UVs
+// u = (x + 1) / 4, v = (y + 1) / 2 (the left half of the atlas).
+MeshData plane_mesh(bool occluder = false) {
+  MeshData mesh;
+  test::append_grid(mesh, 8, 8, [](double s, double t) {
+    return Float3{static_cast<float>(2 * s - 1), static_cast<float>(2 * t - 1), 0.f};
+  });
+  const std::size_t plane_vertices = mesh.positions.size();
+  if (occluder) {
+    // A quad at z = 1 over x in [-1.5, -0.3]: from a camera at (0, 0, 3) it
+    // hides the plane's points with x <= -0.45 (similar triangles: the
+    // segment to the camera crosses z = 1 at 2/3 of the point's x).
+    test::append_grid(mesh, 1, 1, [](double s, double t) {
+      return Float3{static_cast<float>(-1.5 + 1.2 * s), static_cast<float>(3 * t - 1.5), 1.f};
+    });
+  }
+  test::faces_from_triangles(mesh);
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const Float3& p = mesh.positions[v];
+    if (v < plane_vertices) {
+      mesh.uvs.push_back({(p.x + 1) / 4, (p.y + 1) / 2});
+    } else {  // the occluder in u in [0.6, 0.9]
+      mesh.uvs.push_back({0.6f + 0.3f * (p.x + 1.5f) / 1.2f, (p.y + 1.5f) / 3});
+    }
+  }
+  mesh.corner_uv = mesh.face_vertices;
+  return mesh;
+}
+
+struct Cam {
+  std::string image;
+  std::array<double, 3> eye, up;
+  double level;  // the photo's 8-bit level (every pixel)
+};
+
+// The camera list (PINHOLE 64 x 64, f = 32, looking at the origin) and its
+// photos in `dir`; returns the list's path.
+fs::path write_cameras(const fs::path& dir, const std::vector<Cam>& cams) {
+  std::ofstream list(dir / "cameras.json");
+  list << R"({"cameras":[)";
+  for (std::size_t i = 0; i < cams.size(); ++i) {
+    const Cam& c = cams[i];
+    const Image photo = test::constant_image(
+        64, 64, Rgba{float(c.level / 255), float(c.level / 255), float(c.level / 255), 1});
+    EXPECT_TRUE(write_image(dir / c.image, photo.view()));
+    list << (i ? "," : "") << R"({"kind":"camera","model":"PINHOLE","width":64,"height":64,)"
+         << R"("params":[32,32,32,32],"pose":{"eye":[)" << c.eye[0] << "," << c.eye[1] << ","
+         << c.eye[2] << R"(],"target":[0,0,0],"up":[)" << c.up[0] << "," << c.up[1] << ","
+         << c.up[2] << R"(]},"image":")" << c.image << R"("})";
+  }
+  list << "]}";
+  return dir / "cameras.json";
+}
+
+LayersSpec layers(const fs::path& dir, const std::string& text) {
+  std::ofstream(dir / "layers.json") << text;
+  Expected<LayersSpec> spec = read_layers(dir / "layers.json");
+  EXPECT_TRUE(spec) << spec.error().message;
+  return spec ? *spec : LayersSpec{};
+}
+
+const Cam kTop{"top.png", {0, 0, 3}, {0, 1, 0}, 153};  // sRGB 0.6
+
+TEST(LayersCameras, OverTheBaseAtAnOpacityByHand) {
+  const fs::path dir = test_dir();
+  write_cameras(dir, {kTop});
+  const LayersSpec spec = layers(dir, R"({"base":[0.2,0.2,0.2,1],
+      "layers":[{"cameras":"cameras.json","opacity":0.5}]})");
+  const MeshData mesh = plane_mesh();
+  Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh, spec, {});
+  ASSERT_TRUE(baked) << baked.error().message;
+  const double want = to_srgb(0.5 * to_linear(0.6) + 0.5 * to_linear(0.2));
+  ASSERT_EQ(baked->colors.size(), 81u);
+  for (const Rgba& c : baked->colors) {
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(c[ch], want, 1e-5);
+    EXPECT_NEAR(c[3], 1, 1e-6);
+  }
+  ASSERT_EQ(baked->layers.size(), 1u);
+  const LayerStats& s = baked->layers[0];
+  EXPECT_TRUE(s.photos);
+  EXPECT_EQ(s.name, "cameras.json");
+  EXPECT_EQ(s.in_domain, 81u);
+  EXPECT_EQ(s.visible, 81u);
+  EXPECT_EQ(s.blended, 81u);
+  EXPECT_NEAR(s.mean_alpha, 0.5, 1e-6);
+}
+
+// Two photos of the plane at levels 153 and 77: the exposure gains make
+// them agree (geometric mean 1), so every vertex, whichever photos see it
+// and whatever their blend weights, is sqrt(l1 l2) in linear light (the
+// weak prior towards 1 moves that by about 1e-4).
+TEST(LayersCameras, ExposureGainsMakeThePhotosAgree) {
+  const fs::path dir = test_dir();
+  write_cameras(dir, {kTop, Cam{"side.png", {1.2, 0.4, 2.8}, {0, 1, 0}, 77}});
+  const LayersSpec spec = layers(dir, R"({"layers":[{"cameras":"cameras.json"}]})");
+  Expected<LayerColors> baked = bake_vertex_colors_from_layers(plane_mesh(), spec, {});
+  ASSERT_TRUE(baked) << baked.error().message;
+  const double want = to_srgb(std::sqrt(to_linear(153 / 255.0) * to_linear(77 / 255.0)));
+  for (const Rgba& c : baked->colors) {
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(c[ch], want, 1e-3);
+    EXPECT_NEAR(c[3], 1, 1e-6);  // coverage over "none"
+  }
+}
+
+// One camera low over the plane: at each vertex theta is the angle between
+// +z and the direction to the camera; the fade [60, 80] gives
+// a = (80 - theta) / 20, and past 75 degrees the camera does not see the
+// point at all (SPEC section 9's cut), so the base stays.
+TEST(LayersCameras, AngleFadeAtTheAngleToTheCameraAndThe75DegreeCut) {
+  const fs::path dir = test_dir();
+  const std::array<double, 3> eye{0, -5, 1.5};
+  write_cameras(dir, {Cam{"low.png", eye, {0, 0, 1}, 153}});
+  const LayersSpec spec = layers(dir, R"({"base":[0.2,0.2,0.2,1],
+      "layers":[{"cameras":"cameras.json","angle_fade":[60,80]}]})");
+  const MeshData mesh = plane_mesh();
+  Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh, spec, {});
+  ASSERT_TRUE(baked) << baked.error().message;
+  std::size_t cut = 0, faded = 0;
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    const Float3& p = mesh.positions[v];
+    const double dx = eye[0] - p.x, dy = eye[1] - p.y, dz = eye[2] - p.z;
+    const double theta =
+        std::acos(dz / std::sqrt(dx * dx + dy * dy + dz * dz)) * 180 / std::numbers::pi;
+    double want = 0.2;
+    if (std::abs(theta - 75) < 0.05) continue;  // too close to the cut to say
+    if (theta < 75) {
+      const double a = std::clamp((80 - theta) / 20, 0.0, 1.0);
+      want = to_srgb(a * to_linear(0.6) + (1 - a) * to_linear(0.2));
+      ++faded;
+    } else {
+      ++cut;
+    }
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(baked->colors[v][ch], want, 1e-5) << "vertex " << v;
+  }
+  EXPECT_GT(cut, 5u);
+  EXPECT_GT(faded, 30u);
+}
+
+TEST(LayersCameras, OccludedPointsKeepTheLayersBelow) {
+  const fs::path dir = test_dir();
+  write_cameras(dir, {kTop});
+  const LayersSpec spec = layers(dir, R"({"base":[0.2,0.2,0.2,1],
+      "layers":[{"cameras":"cameras.json"}]})");
+  const MeshData mesh = plane_mesh(true);
+  Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh, spec, {});
+  ASSERT_TRUE(baked) << baked.error().message;
+  for (std::size_t v = 0; v < 81; ++v) {  // the plane's vertices, x = -1, -0.75, ..., 1
+    const double x = mesh.positions[v].x;
+    const double want = x <= -0.45 ? 0.2 : 0.6;
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(baked->colors[v][ch], want, 1e-5) << "x " << x;
+  }
+}
+
+// The atlas target through the mesh's UVs (a 64 atlas: the plane's
+// x = 4 u - 1, 16 texels per unit): texels away from the chart's border and
+// the shadow's edge are the over mix, or the base in the shadow.
+TEST(LayersCameras, AtlasTexelsMixOrKeepTheBaseInTheShadow) {
+  const fs::path dir = test_dir();
+  write_cameras(dir, {kTop});
+  const LayersSpec spec = layers(dir, R"({"base":[0.2,0.2,0.2,1],
+      "layers":[{"cameras":"cameras.json","opacity":0.5}]})");
+  AtlasOptions atlas;
+  atlas.uv = UvLayout::kMesh;
+  atlas.bake.size = 64;
+  atlas.bake.samples = 4;
+  Expected<LayerAtlas> baked = bake_atlas_texture_from_layers(plane_mesh(true), spec, {}, atlas);
+  ASSERT_TRUE(baked) << baked.error().message;
+  const Image& img = baked->atlas.image;
+  ASSERT_EQ(img.width, 64);
+  const double mix = to_srgb(0.5 * to_linear(0.6) + 0.5 * to_linear(0.2));
+  std::size_t checked = 0;
+  for (int y = 2; y < 62; ++y) {
+    for (int x = 1; x < 31; ++x) {
+      const double px = (x + 0.5) / 64 * 4 - 1;  // the texel centre's x on the plane
+      double want;
+      if (px < -0.75) {
+        want = 0.2;  // all its samples (x within 1/32 of px) in the shadow
+      } else if (px > 0.1 && px < 0.9) {
+        want = mix;
+      } else {
+        continue;
+      }
+      const float* p = &img.pixels[4 * (static_cast<std::size_t>(y) * 64 + x)];
+      for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(p[ch], want, 1e-5) << x << "," << y;
+      EXPECT_NEAR(p[3], 1, 1e-6);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 900u);  // 60 rows x (2 + 13) columns
+  ASSERT_EQ(baked->layers.size(), 1u);
+  EXPECT_TRUE(baked->layers[0].photos);
+  EXPECT_GT(baked->layers[0].visible, 0u);
+  EXPECT_LT(baked->layers[0].visible, baked->layers[0].in_domain);  // the shadow
+}
+
+TEST(LayersCameras, MissingCamerasOrPhotosAreInputErrors) {
+  const fs::path dir = test_dir();
+  {
+    const LayersSpec spec = layers(dir, R"({"layers":[{"cameras":"nowhere.json"}]})");
+    Expected<LayerColors> baked = bake_vertex_colors_from_layers(plane_mesh(), spec, {});
+    ASSERT_FALSE(baked);
+    EXPECT_EQ(category(baked.error()), ErrorCategory::kInput);
+    EXPECT_NE(baked.error().message.find("layers[0]"), std::string::npos) << baked.error().message;
+    EXPECT_NE(baked.error().message.find("nowhere.json"), std::string::npos)
+        << baked.error().message;
+  }
+  {
+    write_cameras(dir, {kTop});
+    fs::remove(dir / "top.png");
+    const LayersSpec spec = layers(dir, R"({"layers":[{"cameras":"cameras.json"}]})");
+    Expected<LayerColors> baked = bake_vertex_colors_from_layers(plane_mesh(), spec, {});
+    ASSERT_FALSE(baked);
+    EXPECT_EQ(category(baked.error()), ErrorCategory::kInput);
+    EXPECT_NE(baked.error().message.find("top.png"), std::string::npos) << baked.error().message;
+  }
+}
+
+}  // namespace
+}  // namespace texbake
