@@ -68,6 +68,24 @@ PhotoBakeOptions layer_photo_options() {
   return o;
 }
 
+// Bakes the photos of every "cameras" layer i with bake(i, photos, blend)
+// into blends[i], points inputs[i] at it and records its seconds. Errors:
+// bake's (as kInput), kCancelled.
+template <class Bake>
+Status bake_layer_photos(const std::vector<std::vector<Photo>>& photos, Progress& progress,
+                         std::vector<LayerInput>& inputs, std::vector<PhotoLayerPoints>& blends,
+                         std::vector<double>& seconds, Bake bake) {
+  for (std::size_t i = 0; i < photos.size(); ++i) {
+    if (photos[i].empty()) continue;
+    if (progress.cancelled()) return cancelled_error();
+    const auto start = Clock::now();
+    if (Status s = bake(i, photos[i], blends[i]); !s) return detail::as_input(s.error());
+    inputs[i].photos = &blends[i];
+    seconds[i] = seconds_since(start);
+  }
+  return ok_status();
+}
+
 void add_photo_warnings(std::size_t layer, const std::vector<std::string>& warnings,
                         std::vector<std::string>& out) {
   for (const std::string& w : warnings)
@@ -137,17 +155,18 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     // "cameras" layers: the photo bake's blend per vertex.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);
-    for (std::size_t i = 0; i < spec.layers.size(); ++i) {
-      if ((*photos)[i].empty()) continue;
-      if (progress.cancelled()) return cancelled_error();
-      const auto photo_start = Clock::now();
-      Expected<PhotoBakeResult> blend =
-          bake_vertex_from_photos(mesh, (*photos)[i], layer_photo_options());
-      if (!blend) return detail::as_input(blend.error());
-      add_photo_warnings(i, blend->warnings, out.stats.warnings);
-      blends[i].vertices = std::move(blend->points);
-      (*inputs)[i].photos = &blends[i];
-      photo_seconds[i] = seconds_since(photo_start);
+    if (Status s = bake_layer_photos(
+            *photos, progress, *inputs, blends, photo_seconds,
+            [&](std::size_t i, const std::vector<Photo>& p, PhotoLayerPoints& b) -> Status {
+              Expected<PhotoBakeResult> blend =
+                  bake_vertex_from_photos(mesh, p, layer_photo_options());
+              if (!blend) return blend.error();
+              add_photo_warnings(i, blend->warnings, out.stats.warnings);
+              b.vertices = std::move(blend->points);
+              return ok_status();
+            });
+        !s) {
+      return s.error();
     }
     Expected<LayersBakeResult> baked = bake_vertex_layers(mesh, *inputs, options);
     if (!baked) return detail::as_input(baked.error());
@@ -223,29 +242,29 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     // "cameras" layers: the photo atlas bake's blend per vertex and sample.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);
-    for (std::size_t i = 0; i < spec.layers.size(); ++i) {
-      if ((*photos)[i].empty()) continue;
-      if (progress.cancelled()) return cancelled_error();
-      const auto photo_start = Clock::now();
-      PhotoAtlasBakeOptions po;
-      po.size = resolved.bake.size;
-      po.samples = resolved.bake.samples;
-      po.padding = 0;
-      po.photo = layer_photo_options();
-      Expected<PhotoAtlasBakeResult> blend =
-          bake_atlas_from_photos(out.atlas.mesh, (*photos)[i], po);
-      if (!blend) return detail::as_input(blend.error());
-      add_photo_warnings(i, blend->warnings, out.atlas.stats.warnings);
-      PhotoLayerPoints& b = blends[i];
-      b.vertices = std::move(blend->vertex_points);
-      b.samples = std::move(blend->sample_points);
-      b.texel_first.assign(static_cast<std::size_t>(po.size) * po.size, PhotoLayerPoints::kNoTexel);
-      const auto spt = static_cast<uint32_t>(po.samples);
-      for (std::size_t k = 0; k < blend->sample_texels.size(); ++k) {
-        b.texel_first[blend->sample_texels[k]] = static_cast<uint32_t>(k) * spt;
-      }
-      (*inputs)[i].photos = &b;
-      photo_seconds[i] = seconds_since(photo_start);
+    if (Status s = bake_layer_photos(
+            *photos, progress, *inputs, blends, photo_seconds,
+            [&](std::size_t i, const std::vector<Photo>& p, PhotoLayerPoints& b) -> Status {
+              PhotoAtlasBakeOptions po;
+              po.size = resolved.bake.size;
+              po.samples = resolved.bake.samples;
+              po.padding = 0;
+              po.photo = layer_photo_options();
+              Expected<PhotoAtlasBakeResult> blend = bake_atlas_from_photos(out.atlas.mesh, p, po);
+              if (!blend) return blend.error();
+              add_photo_warnings(i, blend->warnings, out.atlas.stats.warnings);
+              b.vertices = std::move(blend->vertex_points);
+              b.samples = std::move(blend->sample_points);
+              b.texel_first.assign(static_cast<std::size_t>(po.size) * po.size,
+                                   PhotoLayerPoints::kNoTexel);
+              const auto spt = static_cast<uint32_t>(po.samples);
+              for (std::size_t k = 0; k < blend->sample_texels.size(); ++k) {
+                b.texel_first[blend->sample_texels[k]] = static_cast<uint32_t>(k) * spt;
+              }
+              return ok_status();
+            });
+        !s) {
+      return s.error();
     }
     if (options.base == LayerBase::kMesh && !base_texture && out.atlas.mesh.vertex_colors.empty()) {
       out.atlas.mesh.vertex_colors = mesh.vertex_colors;  // generated charts: same vertices
