@@ -730,6 +730,39 @@ PYBIND11_MODULE(_texbake, m) {
     return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats), per_camera);
   });
 
+  m.def("bake_vertex_from_layers", [](const LoadedMesh& mesh, const std::filesystem::path& layers,
+                                      py::object occluded, int threads, py::object progress) {
+    LayersBakeOptions o;
+    if (py::isinstance<py::str>(occluded)) {
+      o.occluded = choice<OccludedMode>(occluded.cast<std::string>(), "occluded",
+                                        {{"fill", OccludedMode::kFill}});
+    } else {
+      o.occluded = OccludedMode::kColor;
+      o.occluded_color = color_arg(occluded, "occluded");
+    }
+    const LayersSpec spec = check(read_layers(layers));
+    PyRun run(threads, std::move(progress));
+    LayerColors baked = run_released<LayerColors>(run, [&](const RunOptions& r) {
+      return bake_vertex_colors_from_layers(mesh.mesh, spec, o, r);
+    });
+    std::vector<float> flat;
+    flat.reserve(baked.colors.size() * 4);
+    for (const Rgba& c : baked.colors) flat.insert(flat.end(), c.begin(), c.end());
+    py::list per_layer;
+    for (const LayerStats& l : baked.layers) {
+      py::dict d;
+      d[l.photos ? "cameras" : "texture"] = l.name;
+      d["in_domain"] = l.in_domain;
+      d["visible"] = l.visible;
+      d["blended"] = l.blended;
+      d["mean_alpha"] = l.mean_alpha;
+      d["seconds"] = l.seconds;
+      per_layer.append(d);
+    }
+    const auto n = static_cast<py::ssize_t>(baked.colors.size());
+    return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats), per_layer);
+  });
+
   py::class_<Atlas>(m, "Atlas",
                     "An atlas bake (texbake.bake_atlas): image (N, N, 4) float32, mesh (with "
                     "the per-corner UVs baked against), uvs, face_uvs, stats, uv_layout, "

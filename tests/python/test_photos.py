@@ -39,3 +39,27 @@ def test_photo_errors_are_the_cli_messages(tmp_path, bunny):
         texbake.bake_vertex_from_photos(mesh, cameras=tmp_path / "missing")
     with pytest.raises(ValueError, match="blend: unknown value 'sharp'"):
         texbake.bake_vertex_from_photos(mesh, cameras=tmp_path, blend="sharp")
+
+
+def test_layers_match_the_cli(tmp_path):
+    """bake_vertex_from_layers gives the CLI's PLY bytes, here for the bundled
+    bottle (label over the mesh's colours plus a decal), and the same per-layer
+    counts as the CLI's report."""
+    import json
+    bottle, layers = DATA / "bottle.ply", DATA / "bottle_layers.json"
+    out, report = tmp_path / "cli.ply", tmp_path / "r.json"
+    r = run_cli("bake", bottle, "--layers", layers, "-q", "--report", report, "-o", out)
+    assert r.returncode == 0, r.stderr
+    mesh = texbake.read_mesh(bottle)
+    colors, stats, per_layer = texbake.bake_vertex_from_layers(mesh, layers=layers)
+    assert colors.shape == (len(mesh.vertices), 4)
+    py = tmp_path / "py.ply"
+    texbake.write_vertex_colors(py, mesh, colors)
+    assert py.read_bytes() == out.read_bytes()
+    cli = json.loads(report.read_text())["layers"]
+    assert [(l["in_domain"], l["visible"], l["blended"]) for l in per_layer] == \
+        [(l["in_domain"], l["visible"], l["blended"]) for l in cli]
+    with pytest.raises(OSError, match="missing.json"):
+        texbake.bake_vertex_from_layers(mesh, layers=tmp_path / "missing.json")
+    with pytest.raises(ValueError, match="occluded"):
+        texbake.bake_vertex_from_layers(mesh, layers=layers, occluded="paint")

@@ -47,7 +47,7 @@ __all__ = [
     "ImageArray",
     "image",
     "Atlas", "Cancelled", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
-    "bake_vertex", "bake_vertex_from_photos", "compare", "fit", "map", "read_image", "read_mesh",
+    "bake_vertex", "bake_vertex_from_layers", "bake_vertex_from_photos", "compare", "fit", "map", "read_image", "read_mesh",
     "render",
     "write_atlas", "write_image", "write_vertex_colors",
 ]
@@ -287,6 +287,22 @@ def bake_vertex_from_photos(*mesh, cameras, images=None, blend="soft", exposure=
     return _texbake.bake_vertex_from_photos(mesh, str(cameras), "" if images is None else str(images),
                                             blend, exposure, occluded, colorspace, threads,
                                             progress)
+
+
+def bake_vertex_from_layers(*mesh, layers, occluded="fill", threads=0, progress=None):
+    """bake_vertex_from_layers(mesh, layers=PATH, ...) or (vertices, faces, layers=PATH, ...):
+    one colour per vertex composited from a layers file (`texbake bake MESH
+    --layers PATH`, SPEC section 10: its base, then every layer bottom first,
+    in linear light; "cameras" layers included).
+
+    occluded 'fill' | (r, g, b[, a]): vertices no layer and no base colour
+    cover (their alpha stays 0). Returns (colors (n, 4) float32, sRGB-encoded,
+    alpha = coverage; stats dict; layers: a list of dicts per layer with
+    texture (or cameras), in_domain, visible, blended, mean_alpha, seconds).
+    Progress stage: 'layers'.
+    """
+    mesh = _mesh(mesh, 0, "bake_vertex_from_layers")[0]
+    return _texbake.bake_vertex_from_layers(mesh, str(layers), occluded, threads, progress)
 
 
 def bake_atlas(*mesh_image_proxy, uv="auto", size=2048, samples=4, padding=None,
