@@ -369,6 +369,25 @@ Rgba color_arg(const py::handle& obj, const char* name) {
   return {c[0], c[1], c[2], c.size() == 4 ? c[3] : 1.0f};
 }
 
+// occluded= for the photo and layers bakes: "fill" or a colour.
+void occluded_arg(const py::object& occluded, OccludedMode& mode, Rgba& color) {
+  if (py::isinstance<py::str>(occluded)) {
+    mode = choice<OccludedMode>(occluded.cast<std::string>(), "occluded",
+                                {{"fill", OccludedMode::kFill}});
+  } else {
+    mode = OccludedMode::kColor;
+    color = color_arg(occluded, "occluded");
+  }
+}
+
+// Per-vertex colours as an (n, 4) float32 array.
+py::array_t<float> colors_array(const std::vector<Rgba>& colors) {
+  std::vector<float> flat;
+  flat.reserve(colors.size() * 4);
+  for (const Rgba& c : colors) flat.insert(flat.end(), c.begin(), c.end());
+  return owned(std::move(flat), {static_cast<py::ssize_t>(colors.size()), 4});
+}
+
 VertexBakeOptions shading_options(const std::string& filter, int samples,
                                   const std::string& visibility, const py::object& occluded,
                                   const py::object& outside, bool linear, const std::string& wrap) {
@@ -678,11 +697,7 @@ PYBIND11_MODULE(_texbake, m) {
     VertexColors baked = run_released<VertexColors>(run, [&](const RunOptions& r) {
       return bake_vertex_colors(mesh.mesh, img.view, proxy.proxy, o, r);
     });
-    std::vector<float> flat;
-    flat.reserve(baked.colors.size() * 4);
-    for (const Rgba& c : baked.colors) flat.insert(flat.end(), c.begin(), c.end());
-    const auto n = static_cast<py::ssize_t>(baked.colors.size());
-    return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats));
+    return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats));
   });
 
   m.def("bake_vertex_from_photos", [](const LoadedMesh& mesh, const std::filesystem::path& cameras,
@@ -696,13 +711,7 @@ PYBIND11_MODULE(_texbake, m) {
         {{"soft", PhotoBlend::kSoft}, {"best", PhotoBlend::kBest}, {"mean", PhotoBlend::kMean}});
     o.exposure = choice<ExposureMode>(
         exposure, "exposure", {{"gain", ExposureMode::kGain}, {"none", ExposureMode::kNone}});
-    if (py::isinstance<py::str>(occluded)) {
-      o.occluded = choice<OccludedMode>(occluded.cast<std::string>(), "occluded",
-                                        {{"fill", OccludedMode::kFill}});
-    } else {
-      o.occluded = OccludedMode::kColor;
-      o.occluded_color = color_arg(occluded, "occluded");
-    }
+    occluded_arg(occluded, o.occluded, o.occluded_color);
     o.color_space = choice<TextureColorSpace>(colorspace, "colorspace",
                                               {{"auto", TextureColorSpace::kAuto},
                                                {"srgb", TextureColorSpace::kSrgb},
@@ -712,9 +721,6 @@ PYBIND11_MODULE(_texbake, m) {
     PhotoColors baked = run_released<PhotoColors>(run, [&](const RunOptions& r) {
       return bake_vertex_colors_from_photos(mesh.mesh, photos, o, r);
     });
-    std::vector<float> flat;
-    flat.reserve(baked.colors.size() * 4);
-    for (const Rgba& c : baked.colors) flat.insert(flat.end(), c.begin(), c.end());
     py::list per_camera;
     for (const PhotoCameraStats& c : baked.cameras) {
       py::dict d;
@@ -726,28 +732,18 @@ PYBIND11_MODULE(_texbake, m) {
       d["gain"] = py::make_tuple(c.gain[0], c.gain[1], c.gain[2]);
       per_camera.append(d);
     }
-    const auto n = static_cast<py::ssize_t>(baked.colors.size());
-    return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats), per_camera);
+    return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats), per_camera);
   });
 
   m.def("bake_vertex_from_layers", [](const LoadedMesh& mesh, const std::filesystem::path& layers,
                                       py::object occluded, int threads, py::object progress) {
     LayersBakeOptions o;
-    if (py::isinstance<py::str>(occluded)) {
-      o.occluded = choice<OccludedMode>(occluded.cast<std::string>(), "occluded",
-                                        {{"fill", OccludedMode::kFill}});
-    } else {
-      o.occluded = OccludedMode::kColor;
-      o.occluded_color = color_arg(occluded, "occluded");
-    }
+    occluded_arg(occluded, o.occluded, o.occluded_color);
     const LayersSpec spec = check(read_layers(layers));
     PyRun run(threads, std::move(progress));
     LayerColors baked = run_released<LayerColors>(run, [&](const RunOptions& r) {
       return bake_vertex_colors_from_layers(mesh.mesh, spec, o, r);
     });
-    std::vector<float> flat;
-    flat.reserve(baked.colors.size() * 4);
-    for (const Rgba& c : baked.colors) flat.insert(flat.end(), c.begin(), c.end());
     py::list per_layer;
     for (const LayerStats& l : baked.layers) {
       py::dict d;
@@ -759,8 +755,7 @@ PYBIND11_MODULE(_texbake, m) {
       d["seconds"] = l.seconds;
       per_layer.append(d);
     }
-    const auto n = static_cast<py::ssize_t>(baked.colors.size());
-    return py::make_tuple(owned(std::move(flat), {n, 4}), stats_dict(baked.stats), per_layer);
+    return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats), per_layer);
   });
 
   py::class_<Atlas>(m, "Atlas",
