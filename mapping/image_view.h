@@ -18,19 +18,43 @@ using Rgba = std::array<float, 4>;
 // linear light, as float and half files (EXR, HDR) store it; may exceed 1.
 enum class ColorSpace : uint8_t { kSrgb, kLinear };
 
+class TileSource;  // mapping/tiled_image.h
+struct ImageView;
+namespace detail {
+std::array<float, 4> tiled_texel(const ImageView& image, int x, int y);
+}
+
 // width x height pixels, 4 floats (R, G, B, A) each, top row first, rows
 // contiguous. Values are the image's stored values scaled to [0, 1] for
 // integer formats (float images are unscaled), in the encoding
 // `color_space` names.
+// The texels are either in memory (`data`) or, for an image larger than
+// the memory budget, read a tile at a time from `tiles`
+// (mapping/tiled_image.h; `data` is then null). texel() reads either.
 struct ImageView {
   int width = 0;
   int height = 0;
-  const float* data = nullptr;  // width * height * 4 floats
+  const float* data = nullptr;  // width * height * 4 floats, or null when `tiles`
   ColorSpace color_space = ColorSpace::kSrgb;
+  const TileSource* tiles = nullptr;  // not owned; used only when data is null
+  // tiles only: R, G, B go through srgb_to_linear as tiles are loaded (the
+  // linear working image of --linear, without a copy; color_space kLinear).
+  bool decode_srgb = false;
 
+  // Precondition: data (an in-memory view).
   const float* pixel(int x, int y) const {
     return data + (static_cast<std::size_t>(y) * width + x) * 4;
   }
+  // Texel (x, y), 0 <= x < width, 0 <= y < height, from memory or tiles.
+  std::array<float, 4> texel(int x, int y) const {
+    if (data) {
+      const float* p = pixel(x, y);
+      return {p[0], p[1], p[2], p[3]};
+    }
+    return detail::tiled_texel(*this, x, y);
+  }
+  // Whether the texels exist (in memory or tiled).
+  bool has_texels() const { return data != nullptr || tiles != nullptr; }
 };
 
 // SPEC section 1: x = u*W - 0.5, y = (1 - v)*H - 0.5. The only v-flip in texbake.

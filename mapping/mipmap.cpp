@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "mapping/sample.h"
+#include "mapping/tiled_image.h"
 
 namespace texbake {
 
@@ -35,6 +36,16 @@ std::vector<BoxTap> box_taps(int in, int out) {
   return taps;
 }
 
+// Row y of `src`: in place in memory, else read into `scratch` (a tiled
+// level 0, mapping/tiled_image.h; a failed read leaves zeros and the
+// source's error, which the bake reports).
+const float* row_of(const ImageView& src, int y, std::vector<float>& scratch) {
+  if (src.data) return src.pixel(0, y);
+  scratch.resize(static_cast<std::size_t>(src.width) * 4);
+  read_rows(src, y, y + 1, scratch.data());
+  return scratch.data();
+}
+
 // Level `src` reduced to w x h (separable: each output row sums its input
 // rows' horizontal reductions, in double; one row of scratch per chunk).
 // Rows are independent: the result does not depend on how `for_rows` splits them.
@@ -45,9 +56,10 @@ std::vector<float> reduce(const ImageView& src, int w, int h, const RowRunner& f
     // Even sizes: 2 x 2 blocks of weight 1/4 each, the same sums as below
     // (halving is exact in double).
     for_rows(static_cast<std::size_t>(h), [&](std::size_t begin, std::size_t end) {
+      std::vector<float> s0, s1;
       for (std::size_t y = begin; y < end; ++y) {
-        const float* r0 = src.pixel(0, static_cast<int>(2 * y));
-        const float* r1 = src.pixel(0, static_cast<int>(2 * y + 1));
+        const float* r0 = row_of(src, static_cast<int>(2 * y), s0);
+        const float* r1 = row_of(src, static_cast<int>(2 * y + 1), s1);
         float* o = &out[y * static_cast<std::size_t>(w) * 4];
         for (int x = 0; x < w; ++x) {
           for (int c = 0; c < 4; ++c) {
@@ -62,16 +74,17 @@ std::vector<float> reduce(const ImageView& src, int w, int h, const RowRunner& f
   }
   for_rows(static_cast<std::size_t>(h), [&](std::size_t begin, std::size_t end) {
     std::vector<double> acc(static_cast<std::size_t>(w) * 4);
+    std::vector<float> scratch;
     for (std::size_t y = begin; y < end; ++y) {
       std::fill(acc.begin(), acc.end(), 0.0);
       const BoxTap& t = ty[y];
       for (int ky = 0; ky < t.count; ++ky) {
-        const int row = t.first + ky;
+        const float* in = row_of(src, t.first + ky, scratch);
         for (int x = 0; x < w; ++x) {
           const BoxTap& u = tx[static_cast<std::size_t>(x)];
           double sum[4] = {0, 0, 0, 0};
           for (int kx = 0; kx < u.count; ++kx) {
-            const float* p = src.pixel(u.first + kx, row);
+            const float* p = in + static_cast<std::size_t>(u.first + kx) * 4;
             for (int c = 0; c < 4; ++c) sum[c] += u.weight[kx] * p[c];
           }
           double* a = &acc[static_cast<std::size_t>(x) * 4];
@@ -144,7 +157,7 @@ void ewa_level(const ImageView& level, double scale_x, double scale_y, UV uv, Ve
       if (!(r2 < 1)) continue;
       const double w =
           lut[static_cast<std::size_t>(std::min(static_cast<int>(r2 * kLutSize), kLutSize - 1))];
-      const float* p = level.pixel(fold(x, level.width, wrap_u), row);
+      const Rgba p = level.texel(fold(x, level.width, wrap_u), row);
       for (int k = 0; k < 4; ++k) sum[k] += w * p[k];
       weights += w;
     }
@@ -205,10 +218,12 @@ MipPyramid::MipPyramid(const ImageView& base, const RowRunner& for_rows) {
     std::vector<double>& means = row_means_[i];
     means.assign(static_cast<std::size_t>(level.height) * 4, 0.0);
     run(static_cast<std::size_t>(level.height), [&](std::size_t begin, std::size_t end) {
+      std::vector<float> scratch;
       for (std::size_t y = begin; y < end; ++y) {
         double* m = &means[y * 4];
+        const float* row = row_of(level, static_cast<int>(y), scratch);
         for (int x = 0; x < level.width; ++x) {
-          const float* p = level.pixel(x, static_cast<int>(y));
+          const float* p = row + static_cast<std::size_t>(x) * 4;
           for (int k = 0; k < 4; ++k) m[k] += p[k];
         }
         for (int k = 0; k < 4; ++k) m[k] /= level.width;

@@ -27,10 +27,10 @@ Rgba sample_bilinear(const ImageView& image, UV uv, WrapMode wrap_u, WrapMode wr
   const double fx = p.x - x0, fy = p.y - y0;
   const int xa = fold(x0, image.width, wrap_u), xb = fold(x0 + 1, image.width, wrap_u);
   const int ya = fold(y0, image.height, wrap_v), yb = fold(y0 + 1, image.height, wrap_v);
-  const float* t00 = image.pixel(xa, ya);
-  const float* t10 = image.pixel(xb, ya);
-  const float* t01 = image.pixel(xa, yb);
-  const float* t11 = image.pixel(xb, yb);
+  const Rgba t00 = image.texel(xa, ya);
+  const Rgba t10 = image.texel(xb, ya);
+  const Rgba t01 = image.texel(xa, yb);
+  const Rgba t11 = image.texel(xb, yb);
   Rgba out;
   for (int c = 0; c < 4; ++c) {
     const double top = t00[c] + (t10[c] - t00[c]) * fx;

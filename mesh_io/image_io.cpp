@@ -2,6 +2,7 @@
 #include "mesh_io/image_io.h"
 
 #include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imagecache.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -10,8 +11,10 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <thread>
 
 #include "mapping/sample.h"
+#include "mapping/tiled_image.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/regular_file.h"
 
@@ -92,34 +95,93 @@ Status check_image_size(long long width, long long height, int channels) {
 
 namespace {
 
+// The file's channels (nc values at src) as RGBA at d (SPEC section 1 and
+// the header's table); NaN or infinity would poison every interpolation
+// that touches the texel (0 x inf is NaN): read as 0. Returns how many.
+// The one conversion of both the in-memory and the cached reader, so both
+// give the same bits.
+inline int to_rgba(const float* src, int nc, int alpha, float* d) {
+  if (nc < 3) {
+    d[0] = d[1] = d[2] = src[0];
+  } else {
+    d[0] = src[0];
+    d[1] = src[1];
+    d[2] = src[2];
+  }
+  d[3] = alpha >= 0 ? src[alpha] : 1.f;
+  int nonfinite = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (!std::isfinite(d[k])) {
+      d[k] = 0.f;
+      ++nonfinite;
+    }
+  }
+  return nonfinite;
+}
+
+// The channel read as alpha: grey + alpha, RGBA, or OIIO's alpha channel
+// past the first three; -1 for none.
+int alpha_channel(const OIIO::ImageSpec& spec) {
+  const int nc = spec.nchannels;
+  return nc == 2 ? 1 : nc == 4 ? 3 : (spec.alpha_channel >= 3 ? spec.alpha_channel : -1);
+}
+
+// Image::color_space (and unrecognised_color_space) from the header's
+// attributes, or the override.
+void set_color_space(const OIIO::ImageSpec& spec, const ImageReadOptions& options, Image& img) {
+  if (options.color_space == TextureColorSpace::kAuto) {
+    const std::string name = spec.get_string_attribute("oiio:ColorSpace");
+    bool recognised = true;
+    img.color_space = color_space_from_attributes(name, spec.get_float_attribute("oiio:Gamma", 0.f),
+                                                  spec.format.is_floating_point(), &recognised);
+    if (!recognised) img.unrecognised_color_space = name;
+  } else {
+    img.color_space =
+        options.color_space == TextureColorSpace::kLinear ? ColorSpace::kLinear : ColorSpace::kSrgb;
+  }
+}
+
+// The checks on a header before any pixel is decoded or allocated: a 2D
+// image, with pixels and channels, within the size limits when it is to be
+// decoded whole (`whole`), and no larger than its file can hold.
+Status check_header(const OIIO::ImageSpec& spec, const std::string& format, long long stored_bytes,
+                    const fs::path& path, bool whole) {
+  const long long w = spec.width, h = spec.height;
+  if (spec.depth > 1 || spec.deep) {
+    return image_error(ErrorCode::kParse, path, "is a volume or deep image: no 2D image to use");
+  }
+  // An image without pixels is refused either way; the size limits hold
+  // for a whole decode only (a cached image is read a tile at a time).
+  if (whole || w <= 0 || h <= 0 || spec.nchannels <= 0) {
+    if (Status s = check_image_size(w, h, spec.nchannels); !s) {
+      return image_error(ErrorCode::kParse, path, s.error().message);
+    }
+  }
+  // PNG (deflate) and JPEG cannot compress by more than about 1032:1 and
+  // 768:1 (a constant image): a file that small cannot hold its declared size.
+  if (format == "png" || format == "jpeg") {
+    const long long raw = w * h * spec.nchannels * static_cast<long long>(spec.format.size());
+    if (raw / kMaxCompressionRatio > stored_bytes) {
+      return image_error(ErrorCode::kParse, path,
+                         "declares " + std::to_string(w) + " x " + std::to_string(h) +
+                             " pixels, more than a " + std::to_string(stored_bytes) + "-byte " +
+                             format + " file can hold (truncated or lying header)");
+    }
+  }
+  return ok_status();
+}
+
 // Decodes the opened image `in` (a file or an in-memory proxy of
 // `stored_bytes` bytes); `path` names it in errors.
 Expected<Image> decode_image(std::unique_ptr<OIIO::ImageInput> in, const fs::path& path,
                              long long stored_bytes, const ImageReadOptions& options) {
   const OIIO::ImageSpec& spec = in->spec();
   const long long w = spec.width, h = spec.height;
-  if (spec.depth > 1 || spec.deep) {
-    return image_error(ErrorCode::kParse, path, "is a volume or deep image: no 2D image to use");
-  }
-  // Checked on the header, before any pixel is decoded or allocated.
-  if (Status s = check_image_size(w, h, spec.nchannels); !s) {
-    return image_error(ErrorCode::kParse, path, s.error().message);
-  }
-  // PNG (deflate) and JPEG cannot compress by more than about 1032:1 and
-  // 768:1 (a constant image): a file that small cannot hold its declared size.
-  const std::string format = in->format_name();
-  if (format == "png" || format == "jpeg") {
-    const long long raw = w * h * spec.nchannels * static_cast<long long>(spec.format.size());
-    const long long bytes = stored_bytes;
-    if (raw / kMaxCompressionRatio > bytes) {
-      return image_error(ErrorCode::kParse, path,
-                         "declares " + std::to_string(w) + " x " + std::to_string(h) +
-                             " pixels, more than a " + std::to_string(bytes) + "-byte " + format +
-                             " file can hold (truncated or lying header)");
-    }
+  if (Status s = check_header(spec, in->format_name(), stored_bytes, path, true); !s) {
+    return s.error();
   }
   const int nc = spec.nchannels;
-  const int alpha = nc == 2 ? 1 : nc == 4 ? 3 : (spec.alpha_channel >= 3 ? spec.alpha_channel : -1);
+  const int alpha = alpha_channel(spec);
   // Decoded in bands of rows (a band is one tile row for tiled files), each
   // converted to RGBA at once: the decoded values of the whole image are
   // never held beside the result. The result is allocated only once the
@@ -159,24 +221,7 @@ Expected<Image> decode_image(std::unique_ptr<OIIO::ImageInput> in, const fs::pat
       const std::size_t first = static_cast<std::size_t>(y0 * w);
       const std::size_t n = static_cast<std::size_t>((y1 - y0) * w);
       for (std::size_t i = 0; i < n; ++i) {
-        const float* src = &band[i * nc];
-        float* d = &img.pixels[(first + i) * 4];
-        if (nc < 3) {
-          d[0] = d[1] = d[2] = src[0];
-        } else {
-          d[0] = src[0];
-          d[1] = src[1];
-          d[2] = src[2];
-        }
-        d[3] = alpha >= 0 ? src[alpha] : 1.f;
-        // NaN or infinity would poison every interpolation that touches the
-        // texel (0 x inf is NaN): read as 0 and counted (Image::nonfinite_values).
-        for (int k = 0; k < 4; ++k) {
-          if (!std::isfinite(d[k])) {
-            d[k] = 0.f;
-            ++nonfinite;
-          }
-        }
+        nonfinite += to_rgba(&band[i * nc], nc, alpha, &img.pixels[(first + i) * 4]);
       }
     }
   } catch (const std::bad_alloc&) {
@@ -187,16 +232,7 @@ Expected<Image> decode_image(std::unique_ptr<OIIO::ImageInput> in, const fs::pat
   }
   in->close();
   img.nonfinite_values = nonfinite;
-  if (options.color_space == TextureColorSpace::kAuto) {
-    const std::string name = spec.get_string_attribute("oiio:ColorSpace");
-    bool recognised = true;
-    img.color_space = color_space_from_attributes(name, spec.get_float_attribute("oiio:Gamma", 0.f),
-                                                  spec.format.is_floating_point(), &recognised);
-    if (!recognised) img.unrecognised_color_space = name;
-  } else {
-    img.color_space =
-        options.color_space == TextureColorSpace::kLinear ? ColorSpace::kLinear : ColorSpace::kSrgb;
-  }
+  set_color_space(spec, options, img);
   return img;
 }
 
@@ -225,6 +261,120 @@ std::string memory_image_extension(const unsigned char* data, std::size_t size,
   return "";
 }
 
+// The texels of an image past the memory budget (ImageReadOptions::cache_mb),
+// read on demand through a private OpenImageIO ImageCache that holds at most
+// its share of the budget of the file's tiles, in the file's own data type
+// (untiled files are read in 64 x 64 tiles, "autotile"). Every read goes
+// through the same conversion as decode_image (ImageCache::get_pixels into
+// float, then to_rgba), so both give the same values.
+class CachedImage final : public TileSource {
+ public:
+  CachedImage(const fs::path& path, const OIIO::ImageSpec& spec, float max_memory_mb)
+      : path_(path),
+        x_(spec.x),
+        y_(spec.y),
+        z_(spec.z),
+        nc_(spec.nchannels),
+        alpha_(alpha_channel(spec)),
+        cache_(OIIO::ImageCache::create(/*shared=*/false)) {
+    cache_->attribute("max_memory_MB", max_memory_mb);
+    cache_->attribute("autotile", kTileSize);
+    cache_->attribute("unassociatedalpha", 1);  // the stored values, as read_config()
+    cache_->attribute("deduplicate", 0);
+    handle_ = cache_->get_image_handle(OIIO::ustring(path.string()));
+  }
+  ~CachedImage() override { OIIO::ImageCache::destroy(cache_, /*teardown=*/true); }
+
+  // The file's header as the cache sees it (null, with error(), when it cannot open it).
+  const OIIO::ImageSpec* spec() const {
+    return handle_ ? cache_->imagespec(handle_, cache_->get_perthread_info(), 0, 0) : nullptr;
+  }
+  std::string cache_error() const { return first_line(cache_->geterror()); }
+
+  bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb,
+            float* rgba) const override {
+    thread_local std::vector<float> values;
+    values.resize(static_cast<std::size_t>(w) * h * nc_);
+    const bool ok =
+        handle_ && cache_->get_pixels(handle_, cache_->get_perthread_info(), 0, 0, x_ + x0,
+                                      x_ + x0 + w, y_ + y0, y_ + y0 + h, z_, z_ + 1, 0, nc_,
+                                      OIIO::TypeDesc::FLOAT, values.data());
+    if (!ok) {
+      set_error(path_.string() + ": cannot decode (truncated or corrupt?): " + cache_error());
+      for (int r = 0; r < h; ++r) {
+        std::fill_n(rgba + static_cast<std::size_t>(r) * stride * 4,
+                    static_cast<std::size_t>(w) * 4, 0.f);
+      }
+      return false;
+    }
+    for (int r = 0; r < h; ++r) {
+      for (int c = 0; c < w; ++c) {
+        float* d = rgba + (static_cast<std::size_t>(r) * stride + c) * 4;
+        to_rgba(&values[(static_cast<std::size_t>(r) * w + c) * nc_], nc_, alpha_, d);
+        if (decode_srgb) {
+          for (int k = 0; k < 3; ++k) d[k] = srgb_to_linear(d[k]);
+        }
+      }
+    }
+    return true;
+  }
+
+ private:
+  fs::path path_;
+  int x_, y_, z_, nc_, alpha_;
+  OIIO::ImageCache* cache_;
+  OIIO::ImageCache::ImageHandle* handle_ = nullptr;
+};
+
+// Whether read_image opens the image of header `spec` through the cache:
+// a budget is set and the float RGBA copies the caller would hold
+// (ImageReadOptions::memory_copies x 16 bytes a pixel) exceed it, or the
+// image is past the size limits of a whole decode.
+bool goes_through_cache(const OIIO::ImageSpec& spec, const ImageReadOptions& options) {
+  if (options.cache_mb == 0 || spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) {
+    return false;
+  }
+  if (!check_image_size(spec.width, spec.height, spec.nchannels)) return true;
+  const double bytes = static_cast<double>(spec.width) * spec.height * 16 * options.memory_copies;
+  return bytes > static_cast<double>(options.cache_mb) * (1 << 20);
+}
+
+Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
+                            const std::string& format, long long stored_bytes,
+                            const ImageReadOptions& options) {
+  if (Status s = check_header(header, format, stored_bytes, path, /*whole=*/false); !s) {
+    return s.error();
+  }
+  // The budget, less what every thread's decoded-tile cache holds
+  // (mapping/tiled_image.h), with at least a quarter of it for the file's tiles.
+  const double budget = static_cast<double>(options.cache_mb);
+  const double threads = std::max(1u, std::thread::hardware_concurrency());
+  const double tile_caches =
+      threads * static_cast<double>(tile_cache_bytes_per_thread()) / (1 << 20);
+  auto cached = std::make_shared<CachedImage>(
+      path, header, static_cast<float>(std::max(budget / 4, budget - tile_caches)));
+  const OIIO::ImageSpec* spec = cached->spec();
+  if (!spec) {
+    return image_error(ErrorCode::kParse, path,
+                       "cannot read as an image: " + cached->cache_error());
+  }
+  Image img;
+  img.width = spec->width;
+  img.height = spec->height;
+  img.has_alpha = alpha_channel(*spec) >= 0;
+  set_color_space(*spec, options, img);
+  // The first and the last texel: a file whose header claims more than it
+  // holds (truncated, or a lying size) fails here, before the bake; damage
+  // in between is reported by the bake when it reads there (TileSource::failed).
+  float probe[4];
+  if (!cached->read(0, 0, 1, 1, 1, false, probe) ||
+      !cached->read(img.width - 1, img.height - 1, 1, 1, 1, false, probe)) {
+    return make_error(ErrorCode::kParse, cached->error());
+  }
+  img.tiles = std::move(cached);
+  return img;
+}
+
 }  // namespace
 
 Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options) {
@@ -242,6 +392,12 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
   // A size that could not be read takes no part in the compression check.
   const long long stored =
       ec ? std::numeric_limits<long long>::max() : static_cast<long long>(size);
+  if (goes_through_cache(in->spec(), options)) {
+    const OIIO::ImageSpec spec = in->spec();
+    const std::string format = in->format_name();
+    in.reset();
+    return open_cached(path, spec, format, stored, options);
+  }
   return decode_image(std::move(in), path, stored, options);
 }
 

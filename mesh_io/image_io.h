@@ -33,6 +33,21 @@
 // Errors (file named): missing, not a regular file (a folder, a FIFO, a
 // device), unreadable, not an image, truncated or 0-pixel images.
 //
+// Large images (issue #16, SPEC section 13): with a memory budget
+// (ImageReadOptions::cache_mb, --cache-mb) an image whose float RGBA copies
+// would not fit in it, or that is past the size limits of a whole decode,
+// is not decoded: read_image checks its header (a PNG or JPEG too small for
+// its size is refused as above), reads its first and last texel (a
+// truncated file or a lying size fails here) and returns an Image with
+// `tiles` set and no `pixels`, whose texels are read on demand through an
+// OpenImageIO ImageCache (tiles of the file, or 64 x 64 tiles of an untiled
+// one) holding at most the budget less the per-thread tile caches
+// (mapping/tiled_image.h). The values are those the whole decode gives, bit
+// for bit. A read that fails later (damage past the first and last tile)
+// gives zeros and sets the source's error (TileSource::failed), which the
+// bakes report as the file's error. nonfinite_values is not counted for a
+// cached image (it is not read whole); its NaN are still read as 0.
+//
 // Writing goes through write_atomically (temporary name keeps the real
 // extension last, from which OIIO picks the format): .png as 8-bit (default)
 // or 16-bit, .exr as float; other extensions OIIO writes are accepted with
@@ -43,22 +58,29 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "mapping/error.h"
 #include "mapping/image_view.h"
+#include "mapping/tiled_image.h"
 
 namespace texbake {
 
 class AtomicFileSet;
 
 // Owning float RGBA image; view() is valid while the Image lives unchanged.
+// Either decoded (`pixels`) or, past a memory budget, cached (`tiles`, no
+// `pixels`; see above): code that needs `pixels` reads without a budget.
 struct Image {
   int width = 0;
   int height = 0;
-  std::vector<float> pixels;  // width * height * 4, top row first
+  std::vector<float> pixels;  // width * height * 4, top row first; empty when `tiles`
+  // The texels read on demand (read_image with a budget); shared, so a
+  // copy of the Image reads the same cache.
+  std::shared_ptr<const TileSource> tiles;
   // read_image: NaN or infinite values in the file, read as 0 (a float
   // texture's holes must not poison interpolation); callers warn about them.
   std::size_t nonfinite_values = 0;
@@ -72,7 +94,11 @@ struct Image {
   // RGBA file, or OpenImageIO's alpha channel); alpha is 1 everywhere when not.
   bool has_alpha = false;
 
-  ImageView view() const { return {width, height, pixels.data(), color_space}; }
+  ImageView view() const {
+    ImageView v{width, height, tiles ? nullptr : pixels.data(), color_space};
+    v.tiles = tiles.get();
+    return v;
+  }
 };
 
 // How to take a texture's colour space (--texture-colorspace).
@@ -84,7 +110,19 @@ enum class TextureColorSpace {
 
 struct ImageReadOptions {
   TextureColorSpace color_space = TextureColorSpace::kAuto;
+  // The memory budget in MiB (--cache-mb; SPEC section 13). 0: none, the
+  // image is always decoded whole (within kMaxImagePixels). Otherwise an
+  // image whose memory_copies float RGBA copies (16 bytes a pixel each)
+  // exceed it, or past kMaxImagePixels / kMaxImageValues, is read through
+  // the cache (see above). read_image_from_memory ignores it.
+  std::size_t cache_mb = 0;
+  // How many float RGBA copies of the image the caller would hold in memory
+  // (the image, a linear working copy, a MIP pyramid's third, ...).
+  double memory_copies = 1;
 };
+
+// The default budget of --cache-mb.
+inline constexpr std::size_t kDefaultCacheMb = 1024;
 
 Expected<Image> read_image(const std::filesystem::path& path, const ImageReadOptions& options = {});
 
@@ -117,7 +155,9 @@ const char* color_space_name(ColorSpace space);
 // values (16384 x 16384 x 4 channels: 4 GiB of floats, so a many-channel
 // image must be smaller). read_image holds the decoded values and the RGBA
 // result at once: at most 8 GiB for the largest image accepted. Above the
-// limits: kParse naming the size (read_image prefixes the file name).
+// limits: kParse naming the size (read_image prefixes the file name), unless
+// a memory budget is set (ImageReadOptions::cache_mb): the image is then
+// read through the cache, whatever its size.
 inline constexpr long long kMaxImagePixels = 1ll << 28;
 inline constexpr long long kMaxImageValues = 1ll << 30;
 Status check_image_size(long long width, long long height, int channels);

@@ -20,6 +20,7 @@
 #include "mapping/derivatives.h"
 #include "mapping/mipmap.h"
 #include "mapping/sample.h"
+#include "mapping/tiled_image.h"
 
 namespace texbake {
 namespace {
@@ -457,6 +458,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   t0 = Clock::now();
   result.counts.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);
   result.timings.pad = seconds_since(t0);
+  if (Status s = check_texels_read(image); !s) return s.error();
   return result;
 }
 

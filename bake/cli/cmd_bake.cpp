@@ -62,6 +62,7 @@ struct BakeCliOptions {
   std::optional<WrapMode> wrap;
   bool linear = false;
   TextureColorSpace texture_colorspace = TextureColorSpace::kAuto;
+  std::size_t cache_mb = kDefaultCacheMb;
   std::string report;
   int threads = 0;
   bool quiet = false;
@@ -462,11 +463,17 @@ int run_bake(const BakeCliOptions& o) {
   report.fitted_flags = resolved->fitted_flags;
 
   stage_start = Clock::now();
-  Expected<Image> image = read_image(o.texture, {o.texture_colorspace});
+  const bool ewa = o.filter == VertexFilter::kEwa;
+  Expected<Image> image =
+      read_image(o.texture, texture_read_options(o.texture_colorspace, o.cache_mb, o.linear, ewa));
   if (!image) return report_error(image.error());
+  if (ewa) {
+    if (Status s = check_ewa_budget(*image, o.cache_mb); !s) return report_error(s.error());
+  }
   report.load += seconds_since(stage_start);
   report.image_width = image->width;
   report.image_height = image->height;
+  report.image_cached = image->tiles != nullptr;
   warn_nonfinite(*image, o.texture);
   warn_color_space(*image, o.texture);
 
@@ -587,6 +594,7 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
                 "interpolate and average in linear light (an sRGB texture; a linear one always "
                 "is)");
   add_texture_colorspace_flag(*cmd, o->texture_colorspace, "--texture");
+  add_cache_mb_flag(*cmd, o->cache_mb);
   add_photo_flags(*cmd, o->photos);
   cmd->add_option("--layers", o->layers,
                   "bake several projections composited over a base from a layers file (SPEC "

@@ -45,6 +45,7 @@ struct RenderArgs {
   std::string outside = "clamp";  // --outside clamp | R,G,B[,A]
   std::optional<WrapMode> wrap;   // --wrap clamp | repeat (plane proxy only)
   TextureColorSpace texture_colorspace = TextureColorSpace::kAuto;
+  std::size_t cache_mb = kDefaultCacheMb;
   GeometryFlags geometry;
   bool unlit = false;
   std::string colmap;  // --colmap DIR: each view a photo of a COLMAP workspace
@@ -244,7 +245,8 @@ int run_render(const RenderArgs& args) {
   const bool has_atlas = mesh.has_uvs() && mesh.has_texture();
   ColorChoice choice = args.colors;
   if (proxy || camera) {
-    auto img = read_image(args.texture, {args.texture_colorspace});
+    auto img = read_image(
+        args.texture, texture_read_options(args.texture_colorspace, args.cache_mb, false, false));
     if (!img) return report_error(img.error());
     warn_nonfinite(*img, args.texture);
     warn_color_space(*img, args.texture);
@@ -361,6 +363,7 @@ RunFunction add_render_command(CLI::App& app) {
       "plane proxy only: clamp (default) or repeat (tile), as in texbake bake");
   add_texture_colorspace_flag(*cmd, args->texture_colorspace,
                               "the texture read (--texture, or the mesh's own atlas)");
+  add_cache_mb_flag(*cmd, args->cache_mb);
   add_geometry_flags(*cmd, args->geometry);
   cmd->add_flag("--flat", args->flat, "flat shading (geometric normals)");
   cmd->add_flag("--unlit", args->unlit,

@@ -57,6 +57,7 @@ struct AtlasReport {
 struct BakeReport {
   std::string mesh_path, texture_path, output_path;
   int image_width = 0, image_height = 0;
+  bool image_cached = false;  // read in tiles through the ImageCache (--cache-mb)
   VertexBakeOptions options;  // shading (filter and samples: vertex target)
   int threads = 0;            // 0 = all cores
   ProxyParams proxy;

@@ -380,11 +380,11 @@ Status validate_color_source(const MeshData& mesh, const ColorSource& source) {
       return bad("the atlas texture has no pixels");
     }
   } else if (const auto* proj = std::get_if<ProjectionSource>(&source)) {
-    if (proj->texture.width < 1 || proj->texture.height < 1 || !proj->texture.data) {
+    if (proj->texture.width < 1 || proj->texture.height < 1 || !proj->texture.has_texels()) {
       return bad("the projected texture has no pixels");
     }
   } else if (const auto* cam = std::get_if<CameraProjectionSource>(&source)) {
-    if (cam->texture.width < 1 || cam->texture.height < 1 || !cam->texture.data) {
+    if (cam->texture.width < 1 || cam->texture.height < 1 || !cam->texture.has_texels()) {
       return bad("the projected photo has no pixels");
     }
   }

@@ -12,6 +12,13 @@ WorkingImage working_image(const ImageView& image, bool linear) {
   WorkingImage out;
   out.view = image;
   if (!linear || image.color_space == ColorSpace::kLinear) return out;
+  out.view.color_space = ColorSpace::kLinear;
+  if (!image.data) {
+    // A tiled image is linearised as its tiles are loaded (the same
+    // srgb_to_linear on the same values: the same bits as the copy).
+    out.view.decode_srgb = true;
+    return out;
+  }
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   out.pixels.assign(image.data, image.data + pixels * 4);
   float* data = out.pixels.data();
@@ -21,7 +28,6 @@ WorkingImage working_image(const ImageView& image, bool linear) {
     }
   });
   out.view.data = data;
-  out.view.color_space = ColorSpace::kLinear;
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include "bake/trace/embree_scene.h"
 #include "bake/util/progress.h"
 #include "bake/util/timing.h"
+#include "mapping/tiled_image.h"
 
 namespace texbake {
 
@@ -28,6 +29,13 @@ Expected<Rendered> render_mesh(const MeshData& mesh, const ColorSource& source,
         render_preview(mesh, *scene, source, options, &out.rays, &progress);
     if (!image) return image.error();
     if (progress.cancelled()) return cancelled_error();  // a false at the very end counts too
+    // A projected image read through the cache (--cache-mb): a failed read is the file's error.
+    const ImageView* projected = nullptr;
+    if (const auto* p = std::get_if<ProjectionSource>(&source)) projected = &p->texture;
+    if (const auto* c = std::get_if<CameraProjectionSource>(&source)) projected = &c->texture;
+    if (projected) {
+      if (Status s = check_texels_read(*projected); !s) return s.error();
+    }
     out.image = std::move(*image);
     out.stats.counts = detail::mesh_counts(mesh);
     out.stats.timings.render = seconds_since(t0);

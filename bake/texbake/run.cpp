@@ -100,7 +100,7 @@ Counts mesh_counts(const MeshData& mesh) {
 }
 
 Status check_image(const ImageView& image) {
-  if (image.width < 1 || image.height < 1 || !image.data) {
+  if (image.width < 1 || image.height < 1 || !image.has_texels()) {
     return make_error(ErrorCode::kInvalidArgument, "the image has no pixels");
   }
   return ok_status();

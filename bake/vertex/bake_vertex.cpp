@@ -18,6 +18,7 @@
 #include "mapping/derivatives.h"
 #include "mapping/mipmap.h"
 #include "mapping/sample.h"
+#include "mapping/tiled_image.h"
 
 namespace texbake {
 
@@ -232,14 +233,23 @@ void bake_chunk(const P& proxy, const BakeContext& ctx, std::size_t begin, std::
   }
 }
 
+// In bands of rows (read_rows), so a tiled image (mapping/tiled_image.h)
+// is summed without being held whole; the same sums in the same order either way.
 Rgba image_mean(const ImageView& image) {
   double sum[4] = {0, 0, 0, 0};
-  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
-  for (std::size_t i = 0; i < pixels; ++i) {
-    for (int k = 0; k < 4; ++k) sum[k] += image.data[4 * i + k];
+  constexpr int kBand = 64;
+  std::vector<float> band(static_cast<std::size_t>(image.width) * kBand * 4);
+  for (int y0 = 0; y0 < image.height; y0 += kBand) {
+    const int y1 = std::min(image.height, y0 + kBand);
+    read_rows(image, y0, y1, band.data());
+    const std::size_t n = static_cast<std::size_t>(image.width) * (y1 - y0);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < 4; ++k) sum[k] += band[4 * i + k];
+    }
   }
+  const double pixels = static_cast<double>(image.width) * image.height;
   Rgba mean;
-  for (int k = 0; k < 4; ++k) mean[k] = static_cast<float>(sum[k] / static_cast<double>(pixels));
+  for (int k = 0; k < 4; ++k) mean[k] = static_cast<float>(sum[k] / pixels);
   return mean;
 }
 
@@ -354,6 +364,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   result.counts.samples = samples.load();
   result.counts.outside = outside.load();
   result.timings.fill = seconds_since(fill_start);
+  if (Status s = check_texels_read(image); !s) return s.error();
   return stage;
 }
 

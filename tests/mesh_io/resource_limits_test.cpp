@@ -15,6 +15,7 @@
 
 #include "mesh_io/image_io.h"
 #include "tests/mesh_io/test_files.h"
+#include "tests/mesh_io/tiff_bytes.h"
 
 namespace texbake {
 namespace {
@@ -186,6 +187,29 @@ TEST_F(ImageLimitFiles, NonFiniteTexelsAreReadAsZeroAndCounted) {
   EXPECT_EQ(img->nonfinite_values, 4u);
   const std::vector<float> expected = {0.f, 0.5f, 0.f, 1.f, 0.25f, 0.f, 0.75f, 0.f};
   EXPECT_EQ(img->pixels, expected);
+}
+
+TEST_F(ImageLimitFiles, LyingTiffHeaderFailsThroughTheCacheWithoutAllocatingForItsSize) {
+  // A 2-kB tiled TIFF declaring 100000 x 100000 RGB (30 GB of 8-bit data,
+  // 160 GB as float RGBA) in 4096-texel tiles, none of which is in the
+  // file. Without a budget the size limit refuses it; with one (issue #16:
+  // any size is read through the cache) its first tile cannot be read,
+  // an error naming the file, and the cache allocates one tile at most.
+  const fs::path path = test::write_text(
+      dir / "lying.tif",
+      test::tiled_tiff({100000, 100000, 4096, {}, true}, [](int, int, int) { return 0; }));
+  ASSERT_LT(fs::file_size(path), 8000u);
+  EXPECT_EQ(expect_parse_error(path, "100000 x 100000 pixels is larger than texbake reads"), 0);
+  auto cached_error = [&] {
+    ImageReadOptions o;
+    o.cache_mb = 1024;
+    Expected<Image> img = read_image(path, o);
+    if (img.has_value()) return 10;
+    if (img.error().code != ErrorCode::kParse) return 11;
+    return img.error().message.rfind(path.string() + ": cannot decode", 0) == 0 ? 0 : 12;
+  };
+  EXPECT_EQ(cached_error(), 0);
+  EXPECT_EQ(run_with_memory_cap(400, cached_error), 0);
 }
 
 }  // namespace

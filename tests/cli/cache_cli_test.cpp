@@ -1,0 +1,144 @@
+// --cache-mb through the built binary (issue #16 item 1, SPEC section 13):
+// a texture over the budget is read through OpenImageIO's ImageCache and
+// the outputs are byte-identical to the in-memory bake, per vertex
+// (bilinear, area with --linear, ewa), on the atlas and in a render; the
+// report says which path read the image; --filter ewa whose MIP levels do
+// not fit the budget is a usage error; a tile lost in the middle of the
+// file fails the bake naming the file, with no output.
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "run_texbake.h"
+#include "tests/mesh_io/tiff_bytes.h"
+
+namespace texbake {
+namespace {
+
+namespace fs = std::filesystem;
+using testing_cli::quoted;
+using testing_cli::run_texbake;
+using testing_cli::slurp;
+
+class CacheCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = testing_cli::fresh_test_dir("cache_cli");
+    // 1024 x 512 RGB noise (8 MiB as float RGBA): any texel read
+    // differently changes the outputs.
+    texture_ = dir_ / "noise.png";
+    std::mt19937 rng(11);
+    std::vector<unsigned char> rgb(1024 * 512 * 3);
+    for (unsigned char& c : rgb) c = static_cast<unsigned char>(rng() & 255);
+    auto out = OIIO::ImageOutput::create(texture_.string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(texture_.string(), OIIO::ImageSpec(1024, 512, 3, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb.data()));
+    ASSERT_TRUE(out->close());
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string bake(const fs::path& texture, const fs::path& output,
+                   const std::string& extra) const {
+    return "bake " + quoted(fs::path(TEXBAKE_DATA_DIR) / "bunny00.off") + " --texture " +
+           quoted(texture) + " --proxy sphere --center 0,0,0 --radius 1 --up y -q -o " +
+           quoted(output) + " " + extra;
+  }
+
+  // Bakes with the default budget and with `budget`; expects identical
+  // output bytes, the first in memory and the second through the cache.
+  void expect_same_both_ways(const std::string& name, const std::string& options,
+                             const std::string& budget = "--cache-mb 1") {
+    SCOPED_TRACE(name + " " + options);
+    // Same names in two folders: an OBJ names its MTL, the MTL its PNG.
+    fs::create_directories(dir_ / "memory");
+    fs::create_directories(dir_ / "cached");
+    const fs::path a = dir_ / "memory" / name, b = dir_ / "cached" / name;
+    const fs::path ra = dir_ / (name + "_memory.json"), rb = dir_ / (name + "_cached.json");
+    auto r1 = run_texbake(bake(texture_, a, options + " --report " + quoted(ra)));
+    ASSERT_EQ(r1.exit_code, 0) << r1.err;
+    auto r2 = run_texbake(bake(texture_, b, options + " " + budget + " --report " + quoted(rb)));
+    ASSERT_EQ(r2.exit_code, 0) << r2.err;
+    const std::string bytes = slurp(a);
+    ASSERT_GT(bytes.size(), 1000u);
+    EXPECT_TRUE(bytes == slurp(b)) << "outputs differ";
+    if (a.extension() == ".obj") {
+      EXPECT_TRUE(slurp(a.parent_path() / (a.stem().string() + ".png")) ==
+                  slurp(b.parent_path() / (b.stem().string() + ".png")))
+          << "atlases differ";
+    }
+    const auto image_a = nlohmann::json::parse(slurp(ra))["inputs"]["image"];
+    const auto image_b = nlohmann::json::parse(slurp(rb))["inputs"]["image"];
+    EXPECT_EQ(image_a["cached"], false);
+    EXPECT_EQ(image_b["cached"], true);
+    EXPECT_EQ(image_b["width"], 1024);
+    EXPECT_EQ(image_b["height"], 512);
+  }
+
+  fs::path dir_, texture_;
+};
+
+TEST_F(CacheCli, VertexBakesAreByteIdenticalThroughTheCache) {
+  expect_same_both_ways("bilinear.ply", "--filter bilinear");
+  expect_same_both_ways("area.ply", "--filter area --linear");
+}
+
+TEST_F(CacheCli, AtlasBakeIsByteIdenticalThroughTheCache) {
+  expect_same_both_ways("atlas.obj", "--target atlas --uv proxy --size 256 --samples 4");
+}
+
+TEST_F(CacheCli, EwaNeedsItsMipLevelsWithinTheBudget) {
+  // The levels above 1024 x 512 hold 2.7 MiB: refused at 1 MiB (exit 2,
+  // nothing written), baked at 4 MiB through the cache (10.7 MiB with the
+  // image) exactly as in memory.
+  const fs::path out = dir_ / "refused.ply";
+  auto r = run_texbake(bake(texture_, out, "--filter ewa --cache-mb 1"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("texbake: error: --filter ewa keeps the MIP levels of the 1024 x 512 "
+                       "texture in memory (3 MiB), more than --cache-mb 1"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  expect_same_both_ways("ewa.ply", "--filter ewa", "--cache-mb 4");
+}
+
+TEST_F(CacheCli, RenderOfTheProjectionIsByteIdenticalThroughTheCache) {
+  const std::string common = "render " + quoted(fs::path(TEXBAKE_DATA_DIR) / "bunny00.off") +
+                             " --texture " + quoted(texture_) +
+                             " --proxy sphere --center 0,0,0 --radius 1 --up y --size 160x120";
+  auto r1 = run_texbake(common + " -o " + quoted(dir_ / "a.png"));
+  ASSERT_EQ(r1.exit_code, 0) << r1.err;
+  auto r2 = run_texbake(common + " --cache-mb 1 -o " + quoted(dir_ / "b.png"));
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  EXPECT_TRUE(slurp(dir_ / "a.png") == slurp(dir_ / "b.png"));
+}
+
+TEST_F(CacheCli, ATileLostInTheMiddleFailsTheBakeNamingTheFile) {
+  // 256 x 128 in 64-texel tiles; tile 2 of the top row is not in the file.
+  // The sphere reads the whole map, so the bake reaches it.
+  const fs::path tif = dir_ / "hole.tif";
+  std::ofstream(tif, std::ios::binary) << test::tiled_tiff(
+      {256, 128, 64, {2}, false}, [](int x, int y, int c) { return (x + y + 40 * c) & 255; });
+  for (const std::string target : {"vertex.ply", "atlas.obj"}) {
+    const fs::path out = dir_ / target;
+    auto r = run_texbake(bake(tif, out, "--cache-mb 1 --visibility all --filter bilinear"));
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("texbake: error: " + tif.string() + ": cannot decode"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+TEST_F(CacheCli, CacheMbOutOfRangeIsAUsageError) {
+  auto r = run_texbake(bake(texture_, dir_ / "x.ply", "--cache-mb 0"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--cache-mb"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace texbake
