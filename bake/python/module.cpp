@@ -326,6 +326,29 @@ ImageArg image_arg(const py::handle& obj, const char* name) {
   return out;
 }
 
+// The image of a bake: an image array (image_arg), or a file path (str or
+// os.PathLike) read as `texbake bake --texture` reads it, with the memory
+// budget `cache_mb` (past it the texels are read in tiles through
+// OpenImageIO's ImageCache; ValueError for --filter ewa whose MIP levels do
+// not fit it).
+ImageArg bake_image_arg(const py::handle& obj, std::size_t cache_mb, const VertexBakeOptions& o) {
+  if (!py::isinstance<py::str>(obj) && !py::hasattr(obj, "__fspath__")) {
+    return image_arg(obj, "image");
+  }
+  const std::filesystem::path path =
+      py::module_::import("os").attr("fspath")(obj).cast<std::string>();
+  const bool ewa = o.filter == VertexFilter::kEwa;
+  ImageArg out;
+  {
+    py::gil_scoped_release release;
+    out.converted = check(
+        read_image(path, texture_read_options(TextureColorSpace::kAuto, cache_mb, o.linear, ewa)));
+  }
+  if (ewa) check(check_ewa_budget(out.converted, cache_mb));
+  out.view = out.converted.view();
+  return out;
+}
+
 py::array_t<float> image_array(Image&& image) {
   const int h = image.height, w = image.width;
   return owned(std::move(image.pixels), {h, w, 4});
@@ -685,20 +708,21 @@ PYBIND11_MODULE(_texbake, m) {
   });
 
   // ---- Bakes ----
-  m.def("bake_vertex", [](const LoadedMesh& mesh, py::handle image, const PyProxy& proxy,
-                          const std::string& filter, int samples, const std::string& visibility,
-                          py::object occluded, py::object outside, bool linear,
-                          const std::string& wrap, int threads, py::object progress) {
-    const VertexBakeOptions o =
-        shading_options(filter, samples, visibility, occluded, outside, linear, wrap);
-    check(validate_options(o));
-    ImageArg img = image_arg(image, "image");
-    PyRun run(threads, std::move(progress));
-    VertexColors baked = run_released<VertexColors>(run, [&](const RunOptions& r) {
-      return bake_vertex_colors(mesh.mesh, img.view, proxy.proxy, o, r);
-    });
-    return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats));
-  });
+  m.def("bake_vertex",
+        [](const LoadedMesh& mesh, py::handle image, const PyProxy& proxy,
+           const std::string& filter, int samples, const std::string& visibility,
+           py::object occluded, py::object outside, bool linear, const std::string& wrap,
+           std::size_t cache_mb, int threads, py::object progress) {
+          const VertexBakeOptions o =
+              shading_options(filter, samples, visibility, occluded, outside, linear, wrap);
+          check(validate_options(o));
+          ImageArg img = bake_image_arg(image, cache_mb, o);
+          PyRun run(threads, std::move(progress));
+          VertexColors baked = run_released<VertexColors>(run, [&](const RunOptions& r) {
+            return bake_vertex_colors(mesh.mesh, img.view, proxy.proxy, o, r);
+          });
+          return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats));
+        });
 
   m.def("bake_vertex_from_photos", [](const LoadedMesh& mesh, const std::filesystem::path& cameras,
                                       const std::filesystem::path& images, const std::string& blend,
@@ -788,38 +812,39 @@ PYBIND11_MODULE(_texbake, m) {
                              })
       .def_property_readonly("stats", [](const Atlas& a) { return stats_dict(a.stats); });
 
-  m.def("bake_atlas", [](const LoadedMesh& mesh, py::handle image, const PyProxy& proxy,
-                         const std::string& uv, int size, int samples, py::object padding,
-                         const std::string& visibility, py::object occluded, py::object outside,
-                         bool linear, const std::string& wrap, int threads, py::object progress) {
-    AtlasOptions o;
-    o.uv = choice<UvLayout>(uv, "uv",
-                            {{"auto", UvLayout::kAuto},
-                             {"mesh", UvLayout::kMesh},
-                             {"generate", UvLayout::kGenerate},
-                             {"proxy", UvLayout::kProxy}});
-    o.bake.size = size;
-    o.bake.samples = samples;
-    if (padding.is_none()) {
-      o.bake.padding = kPaddingDefault;
-    } else if (py::isinstance<py::str>(padding)) {
-      if (padding.cast<std::string>() != "inf")
-        usage("padding must be a count >= 0, 'inf' or None");
-      o.bake.padding = kPaddingInfinite;
-    } else {
-      const int p = padding.cast<int>();
-      if (p < 0)
-        usage("padding must be a count >= 0, 'inf' or None (got " + std::to_string(p) + ")");
-      o.bake.padding = p;
-    }
-    o.bake.shading = shading_options("area", 16, visibility, occluded, outside, linear, wrap);
-    check(validate_options(o));
-    ImageArg img = image_arg(image, "image");
-    PyRun run(threads, std::move(progress));
-    return run_released<Atlas>(run, [&](const RunOptions& r) {
-      return bake_atlas_texture(mesh.mesh, img.view, proxy.proxy, o, r);
-    });
-  });
+  m.def("bake_atlas",
+        [](const LoadedMesh& mesh, py::handle image, const PyProxy& proxy, const std::string& uv,
+           int size, int samples, py::object padding, const std::string& visibility,
+           py::object occluded, py::object outside, bool linear, const std::string& wrap,
+           std::size_t cache_mb, int threads, py::object progress) {
+          AtlasOptions o;
+          o.uv = choice<UvLayout>(uv, "uv",
+                                  {{"auto", UvLayout::kAuto},
+                                   {"mesh", UvLayout::kMesh},
+                                   {"generate", UvLayout::kGenerate},
+                                   {"proxy", UvLayout::kProxy}});
+          o.bake.size = size;
+          o.bake.samples = samples;
+          if (padding.is_none()) {
+            o.bake.padding = kPaddingDefault;
+          } else if (py::isinstance<py::str>(padding)) {
+            if (padding.cast<std::string>() != "inf")
+              usage("padding must be a count >= 0, 'inf' or None");
+            o.bake.padding = kPaddingInfinite;
+          } else {
+            const int p = padding.cast<int>();
+            if (p < 0)
+              usage("padding must be a count >= 0, 'inf' or None (got " + std::to_string(p) + ")");
+            o.bake.padding = p;
+          }
+          o.bake.shading = shading_options("area", 16, visibility, occluded, outside, linear, wrap);
+          check(validate_options(o));
+          ImageArg img = bake_image_arg(image, cache_mb, o.bake.shading);
+          PyRun run(threads, std::move(progress));
+          return run_released<Atlas>(run, [&](const RunOptions& r) {
+            return bake_atlas_texture(mesh.mesh, img.view, proxy.proxy, o, r);
+          });
+        });
 
   m.def("render", [](const LoadedMesh& mesh, const std::string& colors, py::object texture,
                      py::object proxy, py::object atlas_image, py::object outside,

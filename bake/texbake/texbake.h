@@ -169,6 +169,22 @@ Expected<CompletedProxy> complete_proxy(const ProxySpec& spec, const MeshData& m
                                         const RunOptions& run = {},
                                         ParamNaming naming = ParamNaming::kKey);
 
+// ---- Large textures (SPEC section 13) -------------------------------------
+
+// How a bake reads its texture with the memory budget `cache_mb` (MiB,
+// --cache-mb; 0: always decoded whole): the colour space rule and the float
+// RGBA copies the bake holds besides the image (a linear working copy with
+// `linear`, a MIP pyramid's third with `ewa`), past which read_image reads
+// the texture in tiles through OpenImageIO's ImageCache (mesh_io/image_io.h).
+ImageReadOptions texture_read_options(TextureColorSpace color_space, std::size_t cache_mb,
+                                      bool linear, bool ewa);
+
+// --filter ewa on a texture read through the cache builds its MIP levels
+// above the full size in memory (mapping/mipmap.h), a third of the image's
+// float RGBA size: kUsage naming the sizes and --cache-mb when they exceed
+// `cache_mb`; ok for an image in memory.
+Status check_ewa_budget(const Image& image, std::size_t cache_mb);
+
 // ---- Vertex colours -------------------------------------------------------
 
 struct VertexColors {

@@ -153,3 +153,28 @@ def test_ewa_vertex_bake_writes_the_cli_bytes(tmp_path, bunny, earth):
     texbake.write_vertex_colors(out, bunny, colors)
     assert out.read_bytes() == cli.read_bytes()
     assert stats["counts"]["samples"] == 37706  # one lookup per vertex
+
+
+def test_an_image_path_is_read_through_the_cache_with_the_same_colours(tmp_path, bunny, earth):
+    # earth.jpg (2048 x 1024) is 32 MiB as float RGBA: cache_mb=4 reads it
+    # in tiles through OpenImageIO's ImageCache (issue #16), with the very
+    # values of the array read whole; so does the CLI with --cache-mb 4.
+    path = DATA / "earth.jpg"
+    whole, _ = texbake.bake_vertex(bunny, earth, sphere(), linear=True)
+    cached, _ = texbake.bake_vertex(bunny, path, sphere(), linear=True, cache_mb=4)
+    np.testing.assert_array_equal(cached, whole)
+    cli = tmp_path / "cli.ply"
+    r = run_cli("bake", DATA / "bunny00.off", "--texture", path, *SPHERE_FLAGS, "--linear",
+                "--cache-mb", "4", "-q", "-o", cli)
+    assert r.returncode == 0, r.stderr
+    out = tmp_path / "py.ply"
+    texbake.write_vertex_colors(out, bunny, cached)
+    assert out.read_bytes() == cli.read_bytes()
+    a = texbake.bake_atlas(bunny, earth, sphere(), uv="proxy", size=128)
+    b = texbake.bake_atlas(bunny, str(path), sphere(), uv="proxy", size=128, cache_mb=4)
+    np.testing.assert_array_equal(a.image, b.image)
+    # --filter ewa's MIP levels (10.7 MiB) do not fit 4 MiB: ValueError, as the CLI's exit 2.
+    with pytest.raises(ValueError, match="--filter ewa keeps the MIP levels"):
+        texbake.bake_vertex(bunny, path, sphere(), filter="ewa", cache_mb=4)
+    with pytest.raises(OSError):
+        texbake.bake_vertex(bunny, tmp_path / "missing.png", sphere())

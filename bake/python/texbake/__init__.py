@@ -251,13 +251,16 @@ def map(proxy, points):  # noqa: A001 (the command's name)
 # ---- Bakes -----------------------------------------------------------------
 
 def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first",
-                occluded="fill", outside="clamp", linear=False, wrap="clamp", threads=0,
-                progress=None):
+                occluded="fill", outside="clamp", linear=False, wrap="clamp", cache_mb=1024,
+                threads=0, progress=None):
     """bake_vertex(mesh, image, proxy, ...) or bake_vertex(vertices, faces, image, proxy, ...):
     one colour per vertex (`texbake bake ... --target vertex`).
 
     image: (h, w, c) array (float32 RGBA C-contiguous is used without a
-    copy; uint8/uint16 are scaled to [0, 1]). Options as the command line's:
+    copy; uint8/uint16 are scaled to [0, 1]), or an image file's path, read
+    as `--texture` is: with the memory budget cache_mb (MiB, --cache-mb), past
+    which (or past 16384 x 16384 pixels) its texels are read in tiles through
+    OpenImageIO's ImageCache, with the same results. Options as the command line's:
     filter 'area' | 'bilinear' | 'ewa', samples (1..65536, area only), visibility
     'first' | 'all', occluded 'fill' | 'project' | (r, g, b[, a]), outside
     'clamp' | (r, g, b[, a]), linear, wrap 'clamp' | 'repeat' (plane only).
@@ -266,7 +269,7 @@ def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first"
     """
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_vertex")
     return _texbake.bake_vertex(mesh, image, proxy._native, filter, samples, visibility,
-                                occluded, outside, linear, wrap, threads, progress)
+                                occluded, outside, linear, wrap, cache_mb, threads, progress)
 
 
 def bake_vertex_from_photos(*mesh, cameras, images=None, blend="soft", exposure="gain",
@@ -307,13 +310,14 @@ def bake_vertex_from_layers(*mesh, layers, occluded="fill", threads=0, progress=
 
 def bake_atlas(*mesh_image_proxy, uv="auto", size=2048, samples=4, padding=None,
                visibility="first", occluded="fill", outside="clamp", linear=False,
-               wrap="clamp", threads=0, progress=None):
+               wrap="clamp", cache_mb=1024, threads=0, progress=None):
     """bake_atlas(mesh, image, proxy, ...) or bake_atlas(vertices, faces, image, proxy, ...):
     a texture atlas (`texbake bake ... --target atlas`).
 
     uv 'auto' | 'mesh' | 'generate' | 'proxy'; size N (1..16384); samples
     per texel (1..256); padding None (8 at 2048, scaled), a count, or 'inf';
-    the shading options as bake_vertex's. Returns a texbake.Atlas: `image`
+    the image (an array or a path, with cache_mb) and the shading options as
+    bake_vertex's. Returns a texbake.Atlas: `image`
     (N, N, 4) float32, `mesh` (the mesh with the per-corner UVs baked
     against: its `uvs` and `corner_uvs`), `uvs`/`face_uvs` of that mesh,
     `stats`, `uv_layout`, `repeat_u`; it unpacks as
@@ -322,7 +326,8 @@ def bake_atlas(*mesh_image_proxy, uv="auto", size=2048, samples=4, padding=None,
     """
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_atlas")
     return _texbake.bake_atlas(mesh, image, proxy._native, uv, size, samples, padding,
-                               visibility, occluded, outside, linear, wrap, threads, progress)
+                               visibility, occluded, outside, linear, wrap, cache_mb, threads,
+                               progress)
 
 
 def _atlas_face_uvs(atlas):

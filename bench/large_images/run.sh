@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# Maps larger than memory (issue #16 item 4, SPEC section 13): the Earth map
+# resampled to 65536 x 32768 and to 16384 x 8192 (8-bit RGB, tiled 256 x 256,
+# deflate, made once with oiiotool from data/earth.jpg) baked onto the
+# armadillo subdivided to 832k triangles through a fitted sphere, per vertex
+# (the default --filter area, 16 samples) and into a 2048 atlas (generated
+# UVs, 4 samples): time and peak memory with --cache-mb 512 and 2048 for the
+# large map, and the 16384 map in memory (--cache-mb 4096) and through the
+# cache (--cache-mb 512). A benchmark run by hand, not part of the ctest suite.
+#
+#   bench/large_images/run.sh [-n N] [-w WORKDIR] [-t vertex|atlas|all]
+#
+#   -n N     repetitions of every bake (default 1; the table shows medians)
+#   -w DIR   work folder: mesh, images (7 GB), outputs (default
+#            ${TMPDIR:-/tmp}/texbake_large)
+#   -t T     targets to time (default all)
+#
+# Builds build/texbake (Release) when it is not there. Peak memory is the
+# process's maximum resident set (/usr/bin/time -v); the stage seconds come
+# from each bake's --report. Prints a Markdown table.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+# shellcheck source-path=SCRIPTDIR source=../../scripts/setup.sh
+source "$here/../../scripts/setup.sh"
+
+reps=1
+work=${TMPDIR:-/tmp}/texbake_large
+which=all
+while getopts "n:w:t:h" opt; do
+  case $opt in
+  n) reps=$OPTARG ;;
+  w) work=$OPTARG ;;
+  t) which=$OPTARG ;;
+  *)
+    sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    [ "$opt" = h ] && exit 0
+    exit 2
+    ;;
+  esac
+done
+case $which in vertex | atlas | all) ;; *)
+  echo "run.sh: -t takes vertex, atlas or all, not '$which'" >&2
+  exit 2
+  ;;
+esac
+
+texbake="$TEXBAKE_BUILD/texbake"
+[ -x "$texbake" ] || texbake_build texbake
+texbake_install_packages time openimageio-tools
+py=/usr/bin/python3
+data=$TEXBAKE_ROOT/data
+mkdir -p "$work"
+cd "$work"
+
+mesh=armadillo_832k.ply
+[ -f $mesh ] || "$py" "$here/../peers/peers_util.py" mesh "$data/armadillo.off" $mesh
+[ -f sphere.json ] || "$texbake" fit $mesh --proxy sphere -o sphere.json >/dev/null
+for size in 16384x8192 65536x32768; do
+  img=earth_${size%%x*}.tif
+  if [ ! -f "$img" ]; then
+    echo "making $img (oiiotool --resample, bilinear; tiled 256, deflate)" >&2
+    oiiotool "$data/earth.jpg" --resample:interp=1 "$size" --tile 256 256 \
+      --compression zip -o "$img.part.tif"
+    mv "$img.part.tif" "$img"
+  fi
+done
+
+echo "texbake: $("$texbake" --version | head -1)"
+echo "machine: $(nproc) cores, $(free -g | awk '/^Mem/ {print $2 " GB"}'), $(uptime | sed 's/.*load average/load average/')"
+
+# One timed command: prints "seconds peak_MB".
+timed() {
+  local start end peak_kb ms
+  start=$(date +%s%N)
+  /usr/bin/time -v -o time.log "$texbake" "$@"
+  end=$(date +%s%N)
+  peak_kb=$(awk -F': ' '/Maximum resident set size/ {print $2}' time.log)
+  ms=$(((end - start) / 1000000))
+  printf '%d.%03d %d\n' $((ms / 1000)) $((ms % 1000)) $((peak_kb / 1024))
+}
+
+# The median of $reps runs of a command: prints "seconds peak_MB report".
+median() { # report args...
+  local report=$1
+  shift
+  : >runs.tsv
+  for ((i = 0; i < reps; i++)); do
+    read -r s p < <(timed "$@" --report "$report.$i.json")
+    echo "$s $p $report.$i.json" >>runs.tsv
+  done
+  sort -n runs.tsv | sed -n "$(((reps + 1) / 2))p"
+}
+
+stages='import json,sys
+r=json.load(open(sys.argv[1])); t=r["timings"]
+print("cached" if r["inputs"]["image"]["cached"] else "in memory",
+      " ".join(f"{k} {t[k]:.2f}" for k in ("load","uv_layout","bake","fill","write") if k in t))'
+
+echo
+echo "| target | image | --cache-mb | read | total s | peak MB | stages s (report) |"
+echo "|---|---|---|---|---|---|---|"
+for target in vertex atlas; do
+  [ "$which" = all ] || [ "$which" = "$target" ] || continue
+  flags=(-q --proxy-file sphere.json)
+  ext=ply
+  if [ "$target" = atlas ]; then
+    flags+=(--target atlas --uv generate --size 2048)
+    ext=obj
+  fi
+  for job in "16384 4096" "16384 512" "65536 512" "65536 2048"; do
+    read -r side budget <<<"$job"
+    read -r s p r < <(median "r_${target}_${side}_$budget" bake $mesh --texture "earth_$side.tif" \
+      --cache-mb "$budget" "${flags[@]}" -o "out_${target}_${side}_$budget.$ext")
+    read -r how rest < <("$py" -c "$stages" "$r" | sed 's/^in memory/in_memory/')
+    echo "| $target | earth_$side.tif | $budget | ${how/_/ } | $s | $p | $rest |"
+  done
+done
