@@ -37,9 +37,13 @@ struct ImageView {
   const float* data = nullptr;  // width * height * 4 floats, or null when `tiles`
   ColorSpace color_space = ColorSpace::kSrgb;
   const TileSource* tiles = nullptr;  // not owned; used only when data is null
-  // tiles only: R, G, B go through srgb_to_linear as tiles are loaded (the
-  // linear working image of --linear, without a copy; color_space kLinear).
+  // tiles only, what happens to a texel as its tile is loaded (instead of
+  // to a whole copy; mapping/tiled_image.h transform_texel): R, G, B go
+  // through srgb_to_linear (the linear working image of --linear;
+  // color_space kLinear), then are multiplied by alpha (a layer's
+  // premultiplied texture).
   bool decode_srgb = false;
+  bool premultiply = false;
 
   // Precondition: data (an in-memory view).
   const float* pixel(int x, int y) const {

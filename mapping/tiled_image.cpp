@@ -22,7 +22,7 @@ constexpr int kSlots = kWindow * kWindow;
 constexpr std::size_t kTileFloats = static_cast<std::size_t>(kTile) * kTile * 4;
 
 struct Slot {
-  std::uint64_t key = 0;  // source serial * 2 + decode_srgb; 0: empty
+  std::uint64_t key = 0;  // source serial * 4 + decode_srgb + 2 premultiply; 0: empty
   int tx = -1, ty = -1;
 };
 
@@ -61,7 +61,8 @@ bool read_rows(const ImageView& image, int y0, int y1, float* rgba) {
                 static_cast<std::size_t>(image.width) * (y1 - y0) * 4 * sizeof(float));
     return true;
   }
-  return image.tiles->read(0, y0, image.width, y1 - y0, image.width, image.decode_srgb, rgba);
+  return image.tiles->read(0, y0, image.width, y1 - y0, image.width, image.decode_srgb,
+                           image.premultiply, rgba);
 }
 
 Status check_texels_read(const ImageView& image) {
@@ -78,13 +79,14 @@ std::array<float, 4> tiled_texel(const ImageView& image, int x, int y) {
   const int s = (tx & (kWindow - 1)) | ((ty & (kWindow - 1)) << 3);
   Slot& slot = cache.slots[s];
   float* tile = cache.data.get() + static_cast<std::size_t>(s) * kTileFloats;
-  const std::uint64_t key = image.tiles->serial() * 2 + (image.decode_srgb ? 1 : 0);
+  const std::uint64_t key =
+      image.tiles->serial() * 4 + (image.decode_srgb ? 1 : 0) + (image.premultiply ? 2 : 0);
   if (slot.key != key || slot.tx != tx || slot.ty != ty) {
     const int x0 = tx << kTileShift, y0 = ty << kTileShift;
     // A failed read leaves zeros and the source's error, which the bake
     // reports after its pass (never a crash mid-pass).
     image.tiles->read(x0, y0, std::min(kTile, image.width - x0), std::min(kTile, image.height - y0),
-                      kTile, image.decode_srgb, tile);
+                      kTile, image.decode_srgb, image.premultiply, tile);
     slot = {key, tx, ty};
   }
   const float* p = tile + ((static_cast<std::size_t>(y & (kTile - 1)) << kTileShift) +

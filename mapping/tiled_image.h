@@ -23,6 +23,7 @@
 
 #include "mapping/error.h"
 #include "mapping/image_view.h"
+#include "mapping/sample.h"
 
 namespace texbake {
 
@@ -37,11 +38,11 @@ class TileSource {
   TileSource& operator=(const TileSource&) = delete;
 
   // Reads the texels [x0, x0 + w) x [y0, y0 + h) (inside the image) as RGBA
-  // floats into `rgba`, rows `stride` texels apart, with R, G, B through
-  // srgb_to_linear when `decode_srgb`. False when the file cannot give them
-  // (the texels are then 0): the source keeps the first error (failed()).
-  // Thread-safe.
-  virtual bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb,
+  // floats into `rgba`, rows `stride` texels apart, each through
+  // transform_texel(texel, decode_srgb, premultiply). False when the file
+  // cannot give them (the texels are then 0): the source keeps the first
+  // error (failed()). Thread-safe.
+  virtual bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb, bool premultiply,
                     float* rgba) const = 0;
 
   // Whether some read failed, and the first failure's message (naming the file).
@@ -60,6 +61,16 @@ class TileSource {
   mutable std::mutex error_mutex_;
   mutable std::string error_;
 };
+
+// The one per-texel transform of a tiled view (ImageView::decode_srgb,
+// premultiply), and of the copies it stands for (shade's working image,
+// a layer's premultiplied texture), so both give the same bits.
+inline void transform_texel(float* rgba, bool decode_srgb, bool premultiply) {
+  for (int k = 0; k < 3; ++k) {
+    const float c = decode_srgb ? srgb_to_linear(rgba[k]) : rgba[k];
+    rgba[k] = premultiply ? c * rgba[3] : c;
+  }
+}
 
 // The bytes of the per-thread tile cache (each thread that reads a tiled
 // image holds one, for as long as the thread lives): counted in the budget.

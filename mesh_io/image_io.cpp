@@ -291,7 +291,7 @@ class CachedImage final : public TileSource {
   }
   std::string cache_error() const { return first_line(cache_->geterror()); }
 
-  bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb,
+  bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb, bool premultiply,
             float* rgba) const override {
     thread_local std::vector<float> values;
     values.resize(static_cast<std::size_t>(w) * h * nc_);
@@ -311,9 +311,7 @@ class CachedImage final : public TileSource {
       for (int c = 0; c < w; ++c) {
         float* d = rgba + (static_cast<std::size_t>(r) * stride + c) * 4;
         to_rgba(&values[(static_cast<std::size_t>(r) * w + c) * nc_], nc_, alpha_, d);
-        if (decode_srgb) {
-          for (int k = 0; k < 3; ++k) d[k] = srgb_to_linear(d[k]);
-        }
+        if (decode_srgb || premultiply) transform_texel(d, decode_srgb, premultiply);
       }
     }
     return true;
@@ -367,8 +365,8 @@ Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
   // holds (truncated, or a lying size) fails here, before the bake; damage
   // in between is reported by the bake when it reads there (TileSource::failed).
   float probe[4];
-  if (!cached->read(0, 0, 1, 1, 1, false, probe) ||
-      !cached->read(img.width - 1, img.height - 1, 1, 1, 1, false, probe)) {
+  if (!cached->read(0, 0, 1, 1, 1, false, false, probe) ||
+      !cached->read(img.width - 1, img.height - 1, 1, 1, 1, false, false, probe)) {
     return make_error(ErrorCode::kParse, cached->error());
   }
   img.tiles = std::move(cached);

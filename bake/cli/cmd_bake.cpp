@@ -188,6 +188,11 @@ int run_bake_photos(const BakeCliOptions& o, const CameraProjector* camera = nul
   const std::string what = camera ? "a camera --proxy-file" : "--cameras";
   std::vector<std::string> names = {"--filter", "--visibility", "--outside", "--wrap", "--linear"};
   if (!camera) names.insert(names.end(), {"--texture", "--proxy", "--proxy-file"});
+  if (!given_flags(*o.command, {"--cache-mb"}).empty()) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--cache-mb does not apply to " + what +
+                            " (photos are read whole, at most 16384 x 16384 pixels)");
+  }
   const std::vector<std::string> projection = given_flags(*o.command, names);
   if (!projection.empty()) {
     return report_error(ErrorCode::kInvalidArgument,
@@ -317,6 +322,7 @@ int run_bake_layers(const BakeCliOptions& o) {
   job.write.up = up_direction(o.geometry);
   job.threads = o.threads;
   job.quiet = o.quiet;
+  job.cache_mb = o.cache_mb;
   job.on_report = o.on_report;
   return run_layers_bake(job);
 }

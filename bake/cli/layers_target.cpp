@@ -184,6 +184,7 @@ int run_layers_bake(const LayersJob& job) {
   options.base_color = spec->base_color;
   options.occluded = job.occluded;
   options.occluded_color = job.occluded_color;
+  options.cache_mb = job.cache_mb;
   ProgressBar bar(!job.quiet && ProgressBar::stderr_is_terminal());
   RunOptions run;
   run.threads = job.threads;

@@ -22,6 +22,7 @@ struct LayersJob {
   AtlasOptions atlas_options;  // bake.size 0: the base texture's size, else 2048
   int threads = 0;
   bool quiet = false;
+  std::size_t cache_mb = kDefaultCacheMb;             // --cache-mb: the layers' textures and masks
   std::function<void(const std::string&)> on_report;  // CliHooks::on_report (batch results)
 };
 

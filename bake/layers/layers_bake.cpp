@@ -14,6 +14,7 @@
 #include "bake/util/timing.h"
 #include "bake/vertex/occlusion_fill.h"
 #include "mapping/sample.h"
+#include "mapping/tiled_image.h"
 #include "mesh_io/vertex_normals.h"
 
 namespace texbake {
@@ -25,15 +26,14 @@ constexpr std::size_t kGrain = 4096;  // vertices per parallel block
 // A layer's texture as premultiplied linear RGBA (bilinear interpolation of
 // premultiplied values keeps a transparent border from darkening the
 // colour next to it).
+// Precondition: image.data (in memory); a tiled texture is transformed as
+// its tiles are loaded instead (transform_texel, the same bits).
 std::vector<float> premultiplied_linear(const ImageView& image) {
   const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
   std::vector<float> out(image.data, image.data + 4 * n);
   const bool srgb = image.color_space != ColorSpace::kLinear;
   parallel_for_chunks(n, 1 << 16, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) {
-      float* p = &out[4 * i];
-      for (int c = 0; c < 3; ++c) p[c] = (srgb ? srgb_to_linear(p[c]) : p[c]) * p[3];
-    }
+    for (std::size_t i = b; i < e; ++i) transform_texel(&out[4 * i], srgb, true);
   });
   return out;
 }
@@ -141,7 +141,7 @@ void layer_block(const Prepared& layer, const Map& map, const Vec3* points, cons
       const Rgba s = sample_bilinear(layer.view, r.uv, layer.wrap_u, layer.wrap_v);
       image_alpha = s[3];
       if (s[3] > 0) c.rgb = {s[0] / s[3], s[1] / s[3], s[2] / s[3]};
-      if (in.mask.data) {
+      if (in.mask.has_texels()) {
         const Rgba k = sample_bilinear(in.mask, r.uv, layer.wrap_u, layer.wrap_v);
         mask = in.mask_has_alpha ? k[3] : k[0];
       }
@@ -218,11 +218,18 @@ Expected<Prepared> prepare(const LayerInput& in, std::size_t vertex_count,
     }
     return layer;
   }
-  if (in.texture.width < 1 || in.texture.height < 1 || !in.texture.data) {
+  if (in.texture.width < 1 || in.texture.height < 1 || !in.texture.has_texels()) {
     return make_error(ErrorCode::kInvalidArgument, in.name + ": the layer's image is empty");
   }
-  layer.texture = premultiplied_linear(in.texture);
-  layer.view = {in.texture.width, in.texture.height, layer.texture.data(), ColorSpace::kLinear};
+  if (in.texture.data) {
+    layer.texture = premultiplied_linear(in.texture);
+    layer.view = {in.texture.width, in.texture.height, layer.texture.data(), ColorSpace::kLinear};
+  } else {  // read through the cache (--cache-mb): transformed as tiles load
+    layer.view = in.texture;
+    layer.view.decode_srgb = in.texture.color_space != ColorSpace::kLinear;
+    layer.view.premultiply = true;
+    layer.view.color_space = ColorSpace::kLinear;
+  }
   layer.camera = std::get_if<CameraProjector>(&in.projector);
   if (const Proxy* proxy = std::get_if<Proxy>(&in.projector)) {
     layer.wrap_u = wrap_u(*proxy);

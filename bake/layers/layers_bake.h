@@ -95,6 +95,10 @@ struct LayersBakeOptions {
   Rgba base_color{0, 0, 0, 0};  // sRGB-encoded, straight alpha (LayerBase::kColor)
   OccludedMode occluded = OccludedMode::kFill;
   Rgba occluded_color{0, 0, 0, 1};  // sRGB-encoded; its RGB is used, alpha stays 0
+  // The memory budget in MiB (--cache-mb) for each layer's texture and
+  // mask, as the API reads them (texbake/texbake.h): past it they are read
+  // in tiles through OpenImageIO's ImageCache (mesh_io/image_io.h); 0: decoded whole.
+  std::size_t cache_mb = kDefaultCacheMb;
 };
 
 struct LayerStats {

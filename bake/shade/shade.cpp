@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "bake/util/parallel.h"
+#include "mapping/tiled_image.h"
 
 namespace texbake {
 
@@ -15,7 +16,7 @@ WorkingImage working_image(const ImageView& image, bool linear) {
   out.view.color_space = ColorSpace::kLinear;
   if (!image.data) {
     // A tiled image is linearised as its tiles are loaded (the same
-    // srgb_to_linear on the same values: the same bits as the copy).
+    // transform_texel on the same values: the same bits as the copy).
     out.view.decode_srgb = true;
     return out;
   }
@@ -23,9 +24,7 @@ WorkingImage working_image(const ImageView& image, bool linear) {
   out.pixels.assign(image.data, image.data + pixels * 4);
   float* data = out.pixels.data();
   parallel_for_chunks(pixels, 16384, [data](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      for (int k = 0; k < 3; ++k) data[4 * i + k] = srgb_to_linear(data[4 * i + k]);
-    }
+    for (std::size_t i = begin; i < end; ++i) transform_texel(&data[4 * i], true, false);
   });
   out.view.data = data;
   return out;

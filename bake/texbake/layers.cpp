@@ -93,9 +93,11 @@ void add_photo_warnings(std::size_t layer, const std::vector<std::string>& warni
 }
 
 // Every layer's texture and mask, read into `images` (which must outlive
-// the inputs), one progress step per layer.
+// the inputs), one progress step per layer; past `cache_mb` (a texture
+// with its premultiplied linear copy, a mask alone) through the cache.
 Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Progress& progress,
-                                                    std::vector<Image>& images) {
+                                                    std::vector<Image>& images,
+                                                    std::size_t cache_mb) {
   images.reserve(2 * spec.layers.size());
   std::vector<LayerInput> inputs;
   for (const LayerSpec& l : spec.layers) {
@@ -115,13 +117,15 @@ Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Prog
     }
     in.name = l.texture.filename().string();
     in.projector = *l.projector;
-    Expected<Image> texture = read_image(l.texture);
+    Expected<Image> texture = read_image(
+        l.texture, texture_read_options(TextureColorSpace::kAuto, cache_mb, true, false));
     if (!texture) return texture.error();
     images.push_back(std::move(texture).value());
     in.texture = images.back().view();
     in.texture_has_alpha = images.back().has_alpha;
     if (!l.mask.empty()) {
-      Expected<Image> mask = read_image(l.mask);
+      Expected<Image> mask = read_image(
+          l.mask, texture_read_options(TextureColorSpace::kAuto, cache_mb, false, false));
       if (!mask) return mask.error();
       images.push_back(std::move(mask).value());
       in.mask = images.back().view();
@@ -131,6 +135,15 @@ Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Prog
     progress.advance(1);
   }
   return inputs;
+}
+
+// After the layers pass: the error of a texture or mask read through the
+// cache whose reads failed (mapping/tiled_image.h), naming the file.
+Status check_texels_read(const std::vector<Image>& images) {
+  for (const Image& image : images) {
+    if (Status s = texbake::check_texels_read(image.view()); !s) return s;
+  }
+  return ok_status();
 }
 
 }  // namespace
@@ -149,7 +162,8 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     std::vector<Image> images;
     Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec);
     if (!photos) return photos.error();
-    Expected<std::vector<LayerInput>> inputs = read_layer_inputs(spec, progress, images);
+    Expected<std::vector<LayerInput>> inputs =
+        read_layer_inputs(spec, progress, images, options.cache_mb);
     if (!inputs) return inputs.error();
     LayerColors out;
     // "cameras" layers: the photo bake's blend per vertex.
@@ -170,6 +184,7 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     }
     Expected<LayersBakeResult> baked = bake_vertex_layers(mesh, *inputs, options);
     if (!baked) return detail::as_input(baked.error());
+    if (Status s = check_texels_read(images); !s) return s.error();
     progress.finish();
     out.colors = std::move(baked->colors);
     out.layers = std::move(baked->layers);
@@ -232,7 +247,8 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     std::vector<Image> images;
     Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec);
     if (!photos) return photos.error();
-    Expected<std::vector<LayerInput>> inputs = read_layer_inputs(spec, progress, images);
+    Expected<std::vector<LayerInput>> inputs =
+        read_layer_inputs(spec, progress, images, options.cache_mb);
     if (!inputs) return inputs.error();
     progress.finish();
     LayerAtlas out;
@@ -278,6 +294,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     Expected<LayersAtlasResult> baked = bake_atlas_layers(out.atlas.mesh, *inputs, o, &progress);
     if (progress.cancelled()) return cancelled_error();
     if (!baked) return detail::as_input(baked.error());
+    if (Status s = check_texels_read(images); !s) return s.error();
     out.atlas.image = std::move(baked->atlas);
     out.atlas.blend = !baked->opaque;
     out.layers = std::move(baked->layers);

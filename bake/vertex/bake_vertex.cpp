@@ -24,6 +24,21 @@ namespace texbake {
 
 namespace {
 
+// The 2D Morton (Z-order) code of (x, y) < 2^24 each: blocks near in the
+// image are near in the order.
+uint64_t morton2(uint32_t x, uint32_t y) {
+  auto spread = [](uint64_t v) {
+    v &= 0xFFFFFF;
+    v = (v | (v << 16)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v << 8)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | (v << 2)) & 0x3333333333333333ull;
+    v = (v | (v << 1)) & 0x5555555555555555ull;
+    return v;
+  };
+  return spread(x) | (spread(y) << 1);
+}
+
 // Vertices per parallel chunk: one std::visit, one visibility batch and one
 // progress update each. Small enough to balance the area filter's uneven cost.
 constexpr std::size_t kVertexGrain = 1024;
@@ -68,6 +83,8 @@ struct BakeContext {
   const Adjacency* adjacency = nullptr;
   const EmbreeScene* scene = nullptr;  // null: no visibility test
   double ray_offset = 0;
+  // The order in which the chunks visit the vertices (null: index order).
+  const std::vector<uint32_t>* order = nullptr;
 };
 
 // Per-chunk counters, added to the totals once per chunk (integer sums, so
@@ -200,10 +217,14 @@ void bake_chunk(const P& proxy, const BakeContext& ctx, std::size_t begin, std::
     scratch.batch.reserve(end - begin);
     scratch.ray_vertex.reserve(end - begin);
   }
-  for (std::size_t v = begin; v < end; ++v) {
+  const auto vertex = [&ctx](std::size_t i) -> std::size_t {
+    return ctx.order ? (*ctx.order)[i] : i;
+  };
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::size_t v = vertex(i);
     const Vec3 p = to_vec(mesh.positions[v]);
     const MapResult m = proxy.inverse_map(p);
-    scratch.maps[v - begin] = m;
+    scratch.maps[i - begin] = m;
     state[v] = kVisible;
     if (m.status == MapStatus::kUndefined) {
       state[v] = kUndefined;
@@ -220,17 +241,49 @@ void bake_chunk(const P& proxy, const BakeContext& ctx, std::size_t begin, std::
     }
   }
   const bool need_occluded_colors = ctx.options->occluded == OccludedMode::kProject;
-  for (std::size_t v = begin; v < end; ++v) {
+  for (std::size_t i = begin; i < end; ++i) {
+    const std::size_t v = vertex(i);
     if (state[v] == kUndefined) continue;
     if (state[v] == kOccluded && !need_occluded_colors) continue;
     const std::optional<Rgba> c = vertex_color(proxy, ctx, static_cast<uint32_t>(v),
-                                               scratch.maps[v - begin], scratch.cdf, counts);
+                                               scratch.maps[i - begin], scratch.cdf, counts);
     if (c) {
       colors[v] = *c;
     } else {
       state[v] = kUndefined;
     }
   }
+}
+
+// The vertices sorted by the Morton code of the 256-texel block of the
+// image their inverse mapping lands in (unmapped ones last), ties by index.
+std::vector<uint32_t> image_order(const MeshData& mesh, const Proxy& proxy,
+                                  const ImageView& image) {
+  const std::size_t n = mesh.positions.size();
+  std::vector<uint64_t> keys(n);
+  parallel_for_chunks(n, 16384, [&](std::size_t begin, std::size_t end) {
+    std::visit(
+        [&](const auto& p) {
+          for (std::size_t v = begin; v < end; ++v) {
+            const MapResult m = p.inverse_map(to_vec(mesh.positions[v]));
+            uint64_t key = ~uint64_t{0};
+            if (m.status != MapStatus::kUndefined) {
+              const PixelPos px = pixel_from_uv(m.uv, image.width, image.height);
+              const auto block = [](double c, int size) {
+                return static_cast<uint32_t>(std::clamp(c, 0.0, size - 1.0)) >> 8;
+              };
+              key = morton2(block(px.x, image.width), block(px.y, image.height));
+            }
+            keys[v] = key;
+          }
+        },
+        proxy);
+  });
+  std::vector<uint32_t> order(n);
+  for (std::size_t v = 0; v < n; ++v) order[v] = static_cast<uint32_t>(v);
+  std::stable_sort(order.begin(), order.end(),
+                   [&keys](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+  return order;
 }
 
 // In bands of rows (read_rows), so a tiled image (mapping/tiled_image.h)
@@ -305,6 +358,16 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
     ctx.ray_offset = visibility_offset(*shared_scene);
   }
 
+  // A texture read in tiles (--cache-mb): visit the vertices in the order
+  // of their place in the image, so that neighbouring lookups share tiles
+  // and each tile of the file is read about once, not once per visit of a
+  // scattered vertex order (a subdivided mesh appends its new vertices
+  // level by level). Every vertex's colour is its own: the same result.
+  std::vector<uint32_t> order;
+  if (!working.view.data) {
+    order = image_order(mesh, proxy, working.view);
+    ctx.order = &order;
+  }
   std::vector<uint8_t>& state = stage.state;
   state.assign(n, kVisible);
   std::atomic<std::size_t> samples{0}, outside{0};

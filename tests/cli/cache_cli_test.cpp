@@ -134,6 +134,54 @@ TEST_F(CacheCli, ATileLostInTheMiddleFailsTheBakeNamingTheFile) {
   }
 }
 
+TEST_F(CacheCli, LayersTexturesAndMasksAreReadThroughTheCacheAlike) {
+  // An RGBA layer texture of random alpha (premultiplied as its tiles load)
+  // and a grey mask, over a colour base; vertex and atlas targets.
+  std::mt19937 rng(12);
+  auto write = [&](const fs::path& path, int w, int h, int nc) {
+    std::vector<unsigned char> v(static_cast<std::size_t>(w) * h * nc);
+    for (unsigned char& c : v) c = static_cast<unsigned char>(rng() & 255);
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(w, h, nc, OIIO::TypeDesc::UINT8);
+    if (nc == 4) spec.alpha_channel = 3;
+    ASSERT_TRUE(out->open(path.string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, v.data()));
+    ASSERT_TRUE(out->close());
+  };
+  write(dir_ / "layer.png", 600, 300, 4);
+  write(dir_ / "mask.png", 512, 256, 1);  // 2 MiB as float RGBA: cached too
+  std::ofstream(dir_ / "layers.json")
+      << R"({"base": [0.2, 0.4, 0.6, 1], "layers": [{"proxy": {"kind": "sphere", )"
+      << R"("center": [0, 0, 0], "radius": 1, "pole": [0, 1, 0], "equator": [0, 0, 1]}, )"
+      << R"("texture": "layer.png", "mask": "mask.png", "visibility": "all"}]})";
+  const std::string mesh = quoted(fs::path(TEXBAKE_DATA_DIR) / "bunny00.off");
+  for (const std::string name : {"layers.ply", "layers.obj"}) {
+    const std::string extra = name == "layers.obj" ? " --size 256 --uv generate" : "";
+    fs::create_directories(dir_ / "m");
+    fs::create_directories(dir_ / "c");
+    auto r1 = run_texbake("bake " + mesh + " --layers " + quoted(dir_ / "layers.json") + extra +
+                          " -q -o " + quoted(dir_ / "m" / name));
+    ASSERT_EQ(r1.exit_code, 0) << r1.err;
+    auto r2 = run_texbake("bake " + mesh + " --layers " + quoted(dir_ / "layers.json") + extra +
+                          " --cache-mb 1 -q -o " + quoted(dir_ / "c" / name));
+    ASSERT_EQ(r2.exit_code, 0) << r2.err;
+    EXPECT_TRUE(slurp(dir_ / "m" / name) == slurp(dir_ / "c" / name)) << name;
+    if (name == "layers.obj") {
+      EXPECT_TRUE(slurp(dir_ / "m" / "layers.png") == slurp(dir_ / "c" / "layers.png"));
+    }
+  }
+}
+
+TEST_F(CacheCli, PhotosRefuseCacheMb) {
+  // Photos are read whole: the flag would do nothing, so it is refused (exit 2).
+  auto r =
+      run_texbake("bake " + quoted(fs::path(TEXBAKE_DATA_DIR) / "bunny00.off") + " --cameras " +
+                  quoted(dir_) + " --cache-mb 64 -q -o " + quoted(dir_ / "p.ply"));
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("--cache-mb does not apply to --cameras"), std::string::npos) << r.err;
+}
+
 TEST_F(CacheCli, CacheMbOutOfRangeIsAUsageError) {
   auto r = run_texbake(bake(texture_, dir_ / "x.ply", "--cache-mb 0"));
   EXPECT_EQ(r.exit_code, 2) << r.err;

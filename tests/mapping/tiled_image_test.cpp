@@ -26,7 +26,8 @@ namespace {
 class MemoryTiles final : public TileSource {
  public:
   MemoryTiles(int w, int h, std::vector<float> rgba) : w_(w), h_(h), rgba_(std::move(rgba)) {}
-  bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb, float* out) const override {
+  bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb, bool premultiply,
+            float* out) const override {
     ++reads;
     EXPECT_GE(x0, 0);
     EXPECT_GE(y0, 0);
@@ -38,9 +39,8 @@ class MemoryTiles final : public TileSource {
       for (int c = 0; c < w; ++c) {
         float* d = out + (static_cast<std::size_t>(r) * stride + c) * 4;
         const float* s = &rgba_[(static_cast<std::size_t>(y0 + r) * w_ + x0 + c) * 4];
-        for (int k = 0; k < 4; ++k) {
-          d[k] = bad ? 0.f : (decode_srgb && k < 3 ? srgb_to_linear(s[k]) : s[k]);
-        }
+        for (int k = 0; k < 4; ++k) d[k] = bad ? 0.f : s[k];
+        if (!bad) transform_texel(d, decode_srgb, premultiply);
       }
     }
     if (bad)
@@ -147,6 +147,20 @@ TEST(TiledImage, MipLevelsAndEwaLookupsAreBitIdentical) {
   }
 }
 
+TEST(TiledImage, TransformTexelIsTheSrgbCurveThenAlpha) {
+  // By hand: sRGB 0.5 is linear 0.2140; premultiplied by alpha 0.5.
+  float t[4] = {0.5f, 0.f, 1.f, 0.5f};
+  transform_texel(t, true, true);
+  EXPECT_NEAR(t[0], 0.214041 * 0.5, 1e-6);
+  EXPECT_EQ(t[1], 0.f);
+  EXPECT_NEAR(t[2], 0.5, 1e-7);
+  EXPECT_EQ(t[3], 0.5f);
+  float u[4] = {0.5f, 0.25f, 1.f, 0.5f};
+  transform_texel(u, false, true);
+  EXPECT_EQ(u[0], 0.25f);
+  EXPECT_EQ(u[1], 0.125f);
+}
+
 TEST(TiledImage, DecodeSrgbEqualsALinearisedCopy) {
   Pair p = make_pair(130, 70, 7);
   std::vector<float> linear = p.rgba;
@@ -161,6 +175,11 @@ TEST(TiledImage, DecodeSrgbEqualsALinearisedCopy) {
       ASSERT_TRUE(same_bits(decoded.texel(x, y), copy.texel(x, y)));
       // The undecoded view of the same source is cached apart from it.
       ASSERT_TRUE(same_bits(p.tiled.texel(x, y), p.memory.texel(x, y)));
+      // And premultiplied (a layer's texture): R, G, B times alpha.
+      ImageView pre = decoded;
+      pre.premultiply = true;
+      const Rgba l = copy.texel(x, y), q = pre.texel(x, y);
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(q[k], l[k] * l[3]);
     }
   }
 }
