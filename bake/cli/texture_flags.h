@@ -31,7 +31,8 @@ inline CLI::Option* add_texture_colorspace_flag(CLI::App& cmd, TextureColorSpace
 inline CLI::Option* add_cache_mb_flag(CLI::App& cmd, std::size_t& target) {
   return cmd
       .add_option("--cache-mb", target,
-                  "memory budget for the texture in MiB (default " +
+                  "memory budget for the texture (or each layer's texture and mask) in MiB "
+                  "(default " +
                       std::to_string(kDefaultCacheMb) +
                       "): a texture whose float RGBA copies would not fit, or larger than "
                       "16384 x 16384, is read in tiles on demand through OpenImageIO's "

@@ -96,7 +96,7 @@ median() { # report args...
 stages='import json,sys
 r=json.load(open(sys.argv[1])); t=r["timings"]
 print("cached" if r["inputs"]["image"]["cached"] else "in memory",
-      " ".join(f"{k} {t[k]:.2f}" for k in ("load","uv_layout","bake","fill","write") if k in t))'
+      " ".join(f"{k} {v:.2f}" for k, v in t.items() if k not in ("total", "fit") and v >= 0.01))'
 
 echo
 echo "| target | image | --cache-mb | read | total s | peak MB | stages s (report) |"
