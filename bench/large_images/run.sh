@@ -24,34 +24,11 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 # shellcheck source-path=SCRIPTDIR source=../../scripts/setup.sh
 source "$here/../../scripts/setup.sh"
 
-reps=1
-work=${TMPDIR:-/tmp}/texbake_large
-which=all
-while getopts "n:w:t:h" opt; do
-  case $opt in
-  n) reps=$OPTARG ;;
-  w) work=$OPTARG ;;
-  t) which=$OPTARG ;;
-  *)
-    sed -n '2,20p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
-    [ "$opt" = h ] && exit 0
-    exit 2
-    ;;
-  esac
-done
-case $which in vertex | atlas | all) ;; *)
-  echo "run.sh: -t takes vertex, atlas or all, not '$which'" >&2
-  exit 2
-  ;;
-esac
-
-texbake="$TEXBAKE_BUILD/texbake"
-[ -x "$texbake" ] || texbake_build texbake
-texbake_install_packages time openimageio-tools
-py=/usr/bin/python3
+# shellcheck source=../common.sh
+source "$here/../common.sh"
+bench_options 1 "${TMPDIR:-/tmp}/texbake_large" "$@"
+bench_start openimageio-tools
 data=$TEXBAKE_ROOT/data
-mkdir -p "$work"
-cd "$work"
 
 mesh=armadillo_832k.ply
 [ -f $mesh ] || "$py" "$here/../peers/peers_util.py" mesh "$data/armadillo.off" $mesh
@@ -66,32 +43,6 @@ for size in 16384x8192 65536x32768; do
     mv "$img.part.tif" "$img"
   fi
 done
-
-echo "texbake: $("$texbake" --version | head -1)"
-echo "machine: $(nproc) cores, $(free -g | awk '/^Mem/ {print $2 " GB"}'), $(uptime | sed 's/.*load average/load average/')"
-
-# One timed command: prints "seconds peak_MB".
-timed() {
-  local start end peak_kb ms
-  start=$(date +%s%N)
-  /usr/bin/time -v -o time.log "$texbake" "$@"
-  end=$(date +%s%N)
-  peak_kb=$(awk -F': ' '/Maximum resident set size/ {print $2}' time.log)
-  ms=$(((end - start) / 1000000))
-  printf '%d.%03d %d\n' $((ms / 1000)) $((ms % 1000)) $((peak_kb / 1024))
-}
-
-# The median of $reps runs of a command: prints "seconds peak_MB report".
-median() { # report args...
-  local report=$1
-  shift
-  : >runs.tsv
-  for ((i = 0; i < reps; i++)); do
-    read -r s p < <(timed "$@" --report "$report.$i.json")
-    echo "$s $p $report.$i.json" >>runs.tsv
-  done
-  sort -n runs.tsv | sed -n "$(((reps + 1) / 2))p"
-}
 
 stages='import json,sys
 r=json.load(open(sys.argv[1])); t=r["timings"]

@@ -23,40 +23,15 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 # shellcheck source-path=SCRIPTDIR source=../../scripts/setup.sh
 source "$here/../../scripts/setup.sh"
 
-reps=3
-work=${TMPDIR:-/tmp}/texbake_photos
-targets=all
-while getopts "n:w:t:h" opt; do
-  case $opt in
-  n) reps=$OPTARG ;;
-  w) work=$OPTARG ;;
-  t) targets=$OPTARG ;;
-  *)
-    sed -n '2,19p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
-    [ "$opt" = h ] && exit 0
-    exit 2
-    ;;
-  esac
-done
-case $targets in vertex | atlas | all) ;; *)
-  echo "run.sh: -t takes vertex, atlas or all, not '$targets'" >&2
-  exit 2
-  ;;
-esac
-
-texbake="$TEXBAKE_BUILD/texbake"
-[ -x "$texbake" ] || texbake_build texbake
-texbake_install_packages time
-py=/usr/bin/python3
-mkdir -p "$work"
-cd "$work"
+# shellcheck source=../common.sh
+source "$here/../common.sh"
+bench_options 3 "${TMPDIR:-/tmp}/texbake_photos" "$@"
+bench_start
 
 [ -f armadillo_832k.ply ] ||
   "$py" "$here/../peers/peers_util.py" mesh "$TEXBAKE_ROOT/data/armadillo.off" armadillo_832k.ply
 cp "$TEXBAKE_ROOT/data/bunny00.off" bunny.off
 
-echo "texbake: $("$texbake" --version | head -1)"
-echo "machine: $(nproc) cores, $(free -g | awk '/^Mem/ {print $2 " GB"}'), $(uptime | sed 's/.*load average/load average/')"
 
 # Photos: 24 views around the mesh's up axis, 1920 x 1080, unlit.
 photograph() { # mesh up
@@ -92,7 +67,7 @@ echo "| mesh | target | total s | stages (s, from the report) | peak MB |"
 echo "|---|---|---|---|---|"
 for mesh in bunny.off armadillo_832k.ply; do
   for target in vertex atlas; do
-    [ "$targets" = all ] || [ "$targets" = "$target" ] || continue
+    [ "$which" = all ] || [ "$which" = "$target" ] || continue
     out=${mesh%.*}/out_$target.ply
     [ "$target" = atlas ] && out=${mesh%.*}/out_atlas.obj
     : >runs.tsv

@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# The shared part of the bench/*/run.sh scripts that time texbake alone
+# (layers, photos, large_images): source it after scripts/setup.sh.
+#
+#   bench_options REPS WORK "$@"   parses -n N (repetitions, default REPS),
+#                                  -w DIR (work folder, default WORK) and
+#                                  -t vertex|atlas|all (default all) into
+#                                  $reps, $work and $which; -h, or a bad
+#                                  flag (exit 2), prints the calling
+#                                  script's header comment
+#   bench_start [PKG...]           builds build/texbake when missing,
+#                                  installs `time` and PKG..., enters $work,
+#                                  prints texbake's version and the machine
+#   timed ARGS...                  runs texbake ARGS, prints "seconds peak_MB"
+#   median REPORT ARGS...          $reps runs of texbake ARGS --report
+#                                  REPORT.i.json: prints the median run's
+#                                  "seconds peak_MB report"
+
+bench_options() {
+  reps=$1
+  work=$2
+  which=all
+  shift 2
+  local opt OPTIND=1
+  while getopts "n:w:t:h" opt; do
+    case $opt in
+    n) reps=$OPTARG ;;
+    w) work=$OPTARG ;;
+    t) which=$OPTARG ;;
+    *)
+      awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"
+      [ "$opt" = h ] && exit 0
+      exit 2
+      ;;
+    esac
+  done
+  case $which in vertex | atlas | all) ;; *)
+    echo "run.sh: -t takes vertex, atlas or all, not '$which'" >&2
+    exit 2
+    ;;
+  esac
+  if ! [[ $reps =~ ^[1-9][0-9]*$ ]]; then
+    echo "run.sh: -n takes a positive count, not '$reps'" >&2
+    exit 2
+  fi
+}
+
+bench_start() {
+  texbake="$TEXBAKE_BUILD/texbake"
+  [ -x "$texbake" ] || texbake_build texbake
+  texbake_install_packages time "$@"
+  py=/usr/bin/python3
+  mkdir -p "$work"
+  cd "$work"
+  echo "texbake: $("$texbake" --version | head -1)"
+  echo "machine: $(nproc) cores, $(free -g | awk '/^Mem/ {print $2 " GB"}'), $(uptime | sed 's/.*load average/load average/')"
+}
+
+timed() {
+  local start end peak_kb ms
+  start=$(date +%s%N)
+  /usr/bin/time -v -o time.log "$texbake" "$@"
+  end=$(date +%s%N)
+  peak_kb=$(awk -F': ' '/Maximum resident set size/ {print $2}' time.log)
+  ms=$(((end - start) / 1000000))
+  printf '%d.%03d %d\n' $((ms / 1000)) $((ms % 1000)) $((peak_kb / 1024))
+}
+
+median() { # report args...
+  local report=$1 i s p
+  shift
+  : >runs.tsv
+  for ((i = 0; i < reps; i++)); do
+    read -r s p < <(timed "$@" --report "$report.$i.json")
+    echo "$s $p $report.$i.json" >>runs.tsv
+  done
+  sort -n runs.tsv | sed -n "$(((reps + 1) / 2))p"
+}
