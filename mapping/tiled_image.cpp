@@ -10,14 +10,15 @@ namespace texbake {
 namespace {
 
 constexpr int kTile = TileSource::kTileSize;
-constexpr int kTileShift = 6;
+constexpr int kTileShift = 5;
 static_assert(kTile == 1 << kTileShift);
-// Direct-mapped: tile (tx, ty) lives in slot (tx mod 8, ty mod 8), so the
-// 8 x 8 tiles (512 x 512 texels) around any point are resident together
-// and the up to four tiles of one bilinear lookup never evict each other
-// (neighbouring tiles fall in different slots, but for a periodic fold from
-// the last column to the first: then at worst one tile is read twice).
-constexpr int kWindow = 8;
+// Direct-mapped: the kWindow x kWindow tiles around any point are resident
+// together, and the up to four tiles of one bilinear lookup never evict each
+// other (neighbouring tiles fall in different slots, but for a periodic fold
+// from the last column to the first: then at worst one tile is read twice).
+constexpr int kWindow = TileSource::kCacheWindow;
+constexpr int kWindowShift = 4;
+static_assert(kWindow == 1 << kWindowShift);
 constexpr int kSlots = kWindow * kWindow;
 constexpr std::size_t kTileFloats = static_cast<std::size_t>(kTile) * kTile * 4;
 
@@ -76,7 +77,7 @@ std::array<float, 4> tiled_texel(const ImageView& image, int x, int y) {
   ThreadTiles& cache = t_tiles;
   if (!cache.data) cache.data = std::make_unique<float[]>(kSlots * kTileFloats);
   const int tx = x >> kTileShift, ty = y >> kTileShift;
-  const int s = (tx & (kWindow - 1)) | ((ty & (kWindow - 1)) << 3);
+  const int s = (tx & (kWindow - 1)) | ((ty & (kWindow - 1)) << kWindowShift);
   Slot& slot = cache.slots[s];
   float* tile = cache.data.get() + static_cast<std::size_t>(s) * kTileFloats;
   const std::uint64_t key =

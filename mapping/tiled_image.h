@@ -29,8 +29,14 @@ namespace texbake {
 
 class TileSource {
  public:
-  // Side of the square tiles of the per-thread cache, in texels.
-  static constexpr int kTileSize = 64;
+  // Side of the square tiles of the per-thread cache, in texels, and of the
+  // square window of tiles it holds (direct-mapped: tile (tx, ty) lives in
+  // slot (tx mod kCacheWindow, ty mod kCacheWindow)). 32 x 32 tiles in a
+  // 16 x 16 window (512 x 512 texels, 4 MiB): a miss converts a quarter of
+  // what a 64 x 64 tile would, which made the atlas's sampling through the
+  // cache 2 to 3 times faster with the same bytes (bench/large_images).
+  static constexpr int kTileSize = 32;
+  static constexpr int kCacheWindow = 16;
 
   TileSource();
   virtual ~TileSource() = default;

@@ -10,7 +10,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include "mapping/sample.h"
@@ -269,6 +271,8 @@ std::string memory_image_extension(const unsigned char* data, std::size_t size,
 // float, then to_rgba), so both give the same values.
 class CachedImage final : public TileSource {
  public:
+  static constexpr int kAutotile = 64;
+
   CachedImage(const fs::path& path, const OIIO::ImageSpec& spec, float max_memory_mb)
       : path_(path),
         x_(spec.x),
@@ -278,16 +282,19 @@ class CachedImage final : public TileSource {
         alpha_(alpha_channel(spec)),
         cache_(OIIO::ImageCache::create(/*shared=*/false)) {
     cache_->attribute("max_memory_MB", max_memory_mb);
-    cache_->attribute("autotile", kTileSize);
+    cache_->attribute("autotile", kAutotile);
     cache_->attribute("unassociatedalpha", 1);  // the stored values, as read_config()
     cache_->attribute("deduplicate", 0);
-    handle_ = cache_->get_image_handle(OIIO::ustring(path.string()));
+    handle_ = cache_->get_image_handle(OIIO::ustring(path.string()), perthread());
   }
-  ~CachedImage() override { OIIO::ImageCache::destroy(cache_, /*teardown=*/true); }
+  ~CachedImage() override {
+    for (auto& [thread, info] : perthread_) cache_->destroy_thread_info(info);
+    OIIO::ImageCache::destroy(cache_, /*teardown=*/true);
+  }
 
   // The file's header as the cache sees it (null, with error(), when it cannot open it).
   const OIIO::ImageSpec* spec() const {
-    return handle_ ? cache_->imagespec(handle_, cache_->get_perthread_info(), 0, 0) : nullptr;
+    return handle_ ? cache_->imagespec(handle_, perthread(), 0, 0) : nullptr;
   }
   std::string cache_error() const { return first_line(cache_->geterror()); }
 
@@ -295,10 +302,9 @@ class CachedImage final : public TileSource {
             float* rgba) const override {
     thread_local std::vector<float> values;
     values.resize(static_cast<std::size_t>(w) * h * nc_);
-    const bool ok =
-        handle_ && cache_->get_pixels(handle_, cache_->get_perthread_info(), 0, 0, x_ + x0,
-                                      x_ + x0 + w, y_ + y0, y_ + y0 + h, z_, z_ + 1, 0, nc_,
-                                      OIIO::TypeDesc::FLOAT, values.data());
+    const bool ok = handle_ && cache_->get_pixels(handle_, perthread(), 0, 0, x_ + x0, x_ + x0 + w,
+                                                  y_ + y0, y_ + y0 + h, z_, z_ + 1, 0, nc_,
+                                                  OIIO::TypeDesc::FLOAT, values.data());
     if (!ok) {
       set_error(path_.string() + ": cannot decode (truncated or corrupt?): " + cache_error());
       for (int r = 0; r < h; ++r) {
@@ -318,10 +324,25 @@ class CachedImage final : public TileSource {
   }
 
  private:
+  // The calling thread's record of the cache (ImageCache's "Perthread"),
+  // made here and destroyed with the cache: the app-managed option of
+  // imagecache.h. With OIIO's own (get_perthread_info()) each thread's
+  // record is freed when the thread ends, under a static mutex of OIIO's;
+  // TBB's workers end during the process's teardown, after OIIO's statics
+  // are gone, and crashed the Python interpreter's exit now and then.
+  OIIO::ImageCache::Perthread* perthread() const {
+    std::lock_guard<std::mutex> lock(perthread_mutex_);
+    OIIO::ImageCache::Perthread*& info = perthread_[std::this_thread::get_id()];
+    if (!info) info = cache_->create_thread_info();
+    return info;
+  }
+
   fs::path path_;
   int x_, y_, z_, nc_, alpha_;
   OIIO::ImageCache* cache_;
   OIIO::ImageCache::ImageHandle* handle_ = nullptr;
+  mutable std::mutex perthread_mutex_;
+  mutable std::map<std::thread::id, OIIO::ImageCache::Perthread*> perthread_;
 };
 
 // Whether read_image opens the image of header `spec` through the cache:
