@@ -44,6 +44,14 @@ struct ImageView {
   // premultiplied texture).
   bool decode_srgb = false;
   bool premultiply = false;
+  // The image's own MIP levels 1 .. mip_level_count (a MIP-mapped file, as
+  // maketx writes for OpenImageIO's TextureSystem; not owned): level i + 1
+  // is mip_levels[i], each max(1, floor(previous / 2)) a side down to 1 x 1,
+  // in the same encoding as this view. MipPyramid (mapping/mipmap.h) takes
+  // them instead of reducing the image. Views that change the texels
+  // (a linear working copy, decode_srgb, premultiply) have none.
+  const ImageView* mip_levels = nullptr;
+  int mip_level_count = 0;
 
   // Precondition: data (an in-memory view).
   const float* pixel(int x, int y) const {

@@ -204,38 +204,44 @@ static void serial_rows(std::size_t count,
 }
 
 MipPyramid::MipPyramid(const ImageView& base, const RowRunner& for_rows) {
-  const RowRunner& run = for_rows ? for_rows : RowRunner(serial_rows);
   views_.push_back(base);
-  while (views_.back().width > 1 || views_.back().height > 1) {
-    const ImageView& src = views_.back();
-    const int w = std::max(1, src.width / 2), h = std::max(1, src.height / 2);
-    owned_.push_back(reduce(src, w, h, run));
-    views_.push_back(ImageView{w, h, owned_.back().data(), base.color_space});
+  views_.back().mip_levels = nullptr;
+  views_.back().mip_level_count = 0;
+  if (base.mip_level_count > 0 && !base.decode_srgb && !base.premultiply) {
+    for (int i = 0; i < base.mip_level_count; ++i) views_.push_back(base.mip_levels[i]);
+  } else {
+    const RowRunner& run = for_rows ? for_rows : RowRunner(serial_rows);
+    while (views_.back().width > 1 || views_.back().height > 1) {
+      const ImageView& src = views_.back();
+      const int w = std::max(1, src.width / 2), h = std::max(1, src.height / 2);
+      owned_.push_back(reduce(src, w, h, run));
+      views_.push_back(ImageView{w, h, owned_.back().data(), base.color_space});
+    }
   }
   row_means_.resize(views_.size());
-  for (std::size_t i = 0; i < views_.size(); ++i) {
-    const ImageView level = views_[i];
-    std::vector<double>& means = row_means_[i];
-    means.assign(static_cast<std::size_t>(level.height) * 4, 0.0);
-    run(static_cast<std::size_t>(level.height), [&](std::size_t begin, std::size_t end) {
-      std::vector<float> scratch;
-      for (std::size_t y = begin; y < end; ++y) {
-        double* m = &means[y * 4];
-        const float* row = row_of(level, static_cast<int>(y), scratch);
-        for (int x = 0; x < level.width; ++x) {
-          const float* p = row + static_cast<std::size_t>(x) * 4;
-          for (int k = 0; k < 4; ++k) m[k] += p[k];
-        }
-        for (int k = 0; k < 4; ++k) m[k] /= level.width;
-      }
-    });
+  for (auto& r : row_means_) r = std::make_unique<RowMeans>();
+}
+
+void MipPyramid::compute_row_means(int i) const {
+  const ImageView& level = views_[static_cast<std::size_t>(i)];
+  std::vector<double>& means = row_means_[static_cast<std::size_t>(i)]->means;
+  means.assign(static_cast<std::size_t>(level.height) * 4, 0.0);
+  std::vector<float> scratch;
+  for (int y = 0; y < level.height; ++y) {
+    double* m = &means[static_cast<std::size_t>(y) * 4];
+    const float* row = row_of(level, y, scratch);
+    for (int x = 0; x < level.width; ++x) {
+      const float* p = row + static_cast<std::size_t>(x) * 4;
+      for (int k = 0; k < 4; ++k) m[k] += p[k];
+    }
+    for (int k = 0; k < 4; ++k) m[k] /= level.width;
   }
 }
 
 std::size_t MipPyramid::owned_bytes() const {
   std::size_t bytes = 0;
   for (const std::vector<float>& level : owned_) bytes += level.size() * sizeof(float);
-  for (const std::vector<double>& means : row_means_) bytes += means.size() * sizeof(double);
+  for (const auto& r : row_means_) bytes += r->means.size() * sizeof(double);
   return bytes;
 }
 

@@ -6,7 +6,10 @@
 // level i reduced by 2 in each dimension (floor, at least 1) by an exact box
 // (area) filter: each output texel is the area-weighted mean of the input
 // texels its rectangle covers (2 x 2 for even sizes, fractional weights for
-// odd ones), down to 1 x 1. It filters the stored values of the view it is
+// odd ones), down to 1 x 1. An image with its own MIP levels (ImageView::
+// mip_levels: a MIP-mapped file) is not reduced: its levels are viewed as
+// they are (whatever filter made them), so a bake reads only the texels
+// of the levels its footprints reach. It filters the stored values of the view it is
 // given, so, built from the working image (bake/shade/shade.h working_image),
 // it averages in the same encoding as the bilinear lookup interpolates: the
 // stored (sRGB-encoded) values, or linear light with --linear or for a
@@ -56,6 +59,8 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 #include "mapping/image_view.h"
@@ -73,8 +78,9 @@ class MipPyramid {
  public:
   MipPyramid() = default;
   // Precondition: base has at least 1 x 1 pixel and stays alive (level 0
-  // views it). for_rows (empty: serial) runs the rows of each level; every
-  // row is computed alone, so the pyramid does not depend on how it splits them.
+  // views it, and its mip_levels when it has them). for_rows (empty:
+  // serial) runs the rows of each level it reduces; every row is computed
+  // alone, so the pyramid does not depend on how it splits them.
   explicit MipPyramid(const ImageView& base, const RowRunner& for_rows = {});
   MipPyramid(MipPyramid&&) = default;
   MipPyramid& operator=(MipPyramid&&) = default;
@@ -84,17 +90,31 @@ class MipPyramid {
   int levels() const { return static_cast<int>(views_.size()); }
   // Level i's pixels (same color_space as the base). 0 <= i < levels().
   const ImageView& level(int i) const { return views_[static_cast<std::size_t>(i)]; }
-  // The mean of row y of level i (4 channels, double).
+  // Whether the levels above 0 are the image's own (ImageView::mip_levels).
+  bool given_levels() const { return owned_.empty() && views_.size() > 1; }
+  // The mean of row y of level i (4 channels, double). A level's row means
+  // are computed when first asked for (serially, by the asking thread;
+  // the others wait): only footprints as wide as the period use them, so
+  // most bakes never read a level whole for them.
   const double* row_mean(int i, int y) const {
-    return &row_means_[static_cast<std::size_t>(i)][static_cast<std::size_t>(y) * 4];
+    const std::size_t l = static_cast<std::size_t>(i);
+    std::call_once(row_means_[l]->once, [this, i] { compute_row_means(i); });
+    return &row_means_[l]->means[static_cast<std::size_t>(y) * 4];
   }
-  // The bytes the levels above 0 and the row means hold (level 0 is the caller's).
+  // The bytes the levels above 0 and the row means computed so far hold
+  // (level 0, and given levels, are the caller's).
   std::size_t owned_bytes() const;
 
  private:
-  std::vector<std::vector<float>> owned_;       // levels 1 ..
-  std::vector<ImageView> views_;                // levels 0 ..
-  std::vector<std::vector<double>> row_means_;  // levels 0 .., height * 4 each
+  struct RowMeans {
+    std::once_flag once;
+    std::vector<double> means;  // height * 4
+  };
+  void compute_row_means(int i) const;
+
+  std::vector<std::vector<float>> owned_;              // levels 1 .. (when reduced here)
+  std::vector<ImageView> views_;                       // levels 0 ..
+  std::vector<std::unique_ptr<RowMeans>> row_means_;   // levels 0 ..
 };
 
 // A lookup's footprint: two vectors in (u, v) units (each (du, dv)).

@@ -173,11 +173,41 @@ Status check_header(const OIIO::ImageSpec& spec, const std::string& format, long
   return ok_status();
 }
 
-// Decodes the opened image `in` (a file or an in-memory proxy of
-// `stored_bytes` bytes); `path` names it in errors.
-Expected<Image> decode_image(std::unique_ptr<OIIO::ImageInput> in, const fs::path& path,
-                             long long stored_bytes, const ImageReadOptions& options) {
-  const OIIO::ImageSpec& spec = in->spec();
+// The sizes of MIP levels 1 .. of the opened image (empty for a plain
+// image): used only when they are the chain MipPyramid expects (each side
+// max(1, floor(previous / 2)), down to 1 x 1, the channels of level 0), as
+// maketx and OpenImageIO's MIP-map writers make them; otherwise the file's
+// levels are ignored and the bake reduces level 0 itself.
+std::vector<std::pair<int, int>> mip_chain(OIIO::ImageInput& in) {
+  std::vector<std::pair<int, int>> sizes;
+  const int channels = in.spec().nchannels;
+  int w = in.spec().width, h = in.spec().height;
+  for (int level = 1; (w > 1 || h > 1) && in.seek_subimage(0, level); ++level) {
+    const OIIO::ImageSpec& spec = in.spec();
+    w = std::max(1, w / 2);
+    h = std::max(1, h / 2);
+    if (spec.width != w || spec.height != h || spec.nchannels != channels) {
+      sizes.clear();
+      break;
+    }
+    sizes.emplace_back(w, h);
+  }
+  if (w > 1 || h > 1) sizes.clear();  // the chain stops short of 1 x 1
+  in.seek_subimage(0, 0);
+  (void)in.geterror();  // a failed seek past the last level is not an error
+  return sizes;
+}
+
+// Decodes MIP level `miplevel` of the opened image `in` (a file or an
+// in-memory proxy of `stored_bytes` bytes); `path` names it in errors.
+Expected<Image> decode_image(OIIO::ImageInput* in, const fs::path& path, long long stored_bytes,
+                             const ImageReadOptions& options, int miplevel = 0) {
+  if (!in->seek_subimage(0, miplevel)) {
+    return image_error(ErrorCode::kParse, path,
+                       "cannot read MIP level " + std::to_string(miplevel) + ": " +
+                           first_line(in->geterror()));
+  }
+  const OIIO::ImageSpec spec = in->spec();
   const long long w = spec.width, h = spec.height;
   if (Status s = check_header(spec, in->format_name(), stored_bytes, path, true); !s) {
     return s.error();
@@ -205,10 +235,10 @@ Expected<Image> decode_image(std::unique_ptr<OIIO::ImageInput> in, const fs::pat
       // uint16 / 65535) and keeps float values.
       const bool ok =
           spec.tile_width > 0
-              ? in->read_tiles(0, 0, spec.x, spec.x + static_cast<int>(w),
+              ? in->read_tiles(0, miplevel, spec.x, spec.x + static_cast<int>(w),
                                spec.y + static_cast<int>(y0), spec.y + static_cast<int>(y1), spec.z,
                                spec.z + 1, 0, nc, OIIO::TypeDesc::FLOAT, band.data())
-              : in->read_scanlines(0, 0, spec.y + static_cast<int>(y0),
+              : in->read_scanlines(0, miplevel, spec.y + static_cast<int>(y0),
                                    spec.y + static_cast<int>(y1), spec.z, 0, nc,
                                    OIIO::TypeDesc::FLOAT, band.data());
       // libjpeg and friends report some damage only as a warning-level
@@ -232,7 +262,6 @@ Expected<Image> decode_image(std::unique_ptr<OIIO::ImageInput> in, const fs::pat
                            std::to_string(h) + " pixels (" + std::to_string((w * h * 16) >> 20) +
                            " MiB as float RGBA)");
   }
-  in->close();
   img.nonfinite_values = nonfinite;
   set_color_space(spec, options, img);
   return img;
@@ -263,50 +292,85 @@ std::string memory_image_extension(const unsigned char* data, std::size_t size,
   return "";
 }
 
-// The texels of an image past the memory budget (ImageReadOptions::cache_mb),
-// read on demand through a private OpenImageIO ImageCache that holds at most
-// its share of the budget of the file's tiles, in the file's own data type
-// (untiled files are read in 64 x 64 tiles, "autotile"). Every read goes
-// through the same conversion as decode_image (ImageCache::get_pixels into
-// float, then to_rgba), so both give the same values.
-class CachedImage final : public TileSource {
+// A private OpenImageIO ImageCache holding at most its share of the budget
+// (ImageReadOptions::cache_mb) of one file's tiles, in the file's own data
+// type (untiled files are read in 64 x 64 tiles, "autotile"); shared by the
+// CachedImage of each of the file's MIP levels.
+class CacheFile {
  public:
   static constexpr int kAutotile = 64;
 
-  CachedImage(const fs::path& path, const OIIO::ImageSpec& spec, float max_memory_mb)
-      : path_(path),
-        x_(spec.x),
-        y_(spec.y),
-        z_(spec.z),
-        nc_(spec.nchannels),
-        alpha_(alpha_channel(spec)),
-        cache_(OIIO::ImageCache::create(/*shared=*/false)) {
+  CacheFile(const fs::path& path, float max_memory_mb)
+      : cache_(OIIO::ImageCache::create(/*shared=*/false)) {
     cache_->attribute("max_memory_MB", max_memory_mb);
     cache_->attribute("autotile", kAutotile);
     cache_->attribute("unassociatedalpha", 1);  // the stored values, as read_config()
     cache_->attribute("deduplicate", 0);
     handle_ = cache_->get_image_handle(OIIO::ustring(path.string()), perthread());
   }
-  ~CachedImage() override {
+  ~CacheFile() {
     for (auto& [thread, info] : perthread_) cache_->destroy_thread_info(info);
     OIIO::ImageCache::destroy(cache_, /*teardown=*/true);
   }
+  CacheFile(const CacheFile&) = delete;
+  CacheFile& operator=(const CacheFile&) = delete;
 
-  // The file's header as the cache sees it (null, with error(), when it cannot open it).
-  const OIIO::ImageSpec* spec() const {
-    return handle_ ? cache_->imagespec(handle_, perthread(), 0, 0) : nullptr;
+  // Level `miplevel`'s header as the cache sees it (null, with error(),
+  // when it cannot open the file or has no such level).
+  const OIIO::ImageSpec* spec(int miplevel) const {
+    return handle_ ? cache_->imagespec(handle_, perthread(), 0, miplevel) : nullptr;
   }
-  std::string cache_error() const { return first_line(cache_->geterror()); }
+  std::string error() const { return first_line(cache_->geterror()); }
+  bool get_pixels(int miplevel, int x0, int x1, int y0, int y1, int z, int nc,
+                  float* values) const {
+    return handle_ && cache_->get_pixels(handle_, perthread(), 0, miplevel, x0, x1, y0, y1, z,
+                                         z + 1, 0, nc, OIIO::TypeDesc::FLOAT, values);
+  }
+
+ private:
+  // The calling thread's record of the cache (ImageCache's "Perthread"),
+  // made here and destroyed with the cache: the app-managed option of
+  // imagecache.h. With OIIO's own (get_perthread_info()) each thread's
+  // record is freed when the thread ends, under a static mutex of OIIO's;
+  // TBB's workers end during the process's teardown, after OIIO's statics
+  // are gone, and crashed the Python interpreter's exit now and then.
+  OIIO::ImageCache::Perthread* perthread() const {
+    std::lock_guard<std::mutex> lock(perthread_mutex_);
+    OIIO::ImageCache::Perthread*& info = perthread_[std::this_thread::get_id()];
+    if (!info) info = cache_->create_thread_info();
+    return info;
+  }
+
+  OIIO::ImageCache* cache_;
+  OIIO::ImageCache::ImageHandle* handle_ = nullptr;
+  mutable std::mutex perthread_mutex_;
+  mutable std::map<std::thread::id, OIIO::ImageCache::Perthread*> perthread_;
+};
+
+// The texels of one MIP level of an image past the memory budget, read on
+// demand through the file's CacheFile. Every read goes through the same
+// conversion as decode_image (ImageCache::get_pixels into float, then
+// to_rgba), so both give the same values.
+class CachedImage final : public TileSource {
+ public:
+  CachedImage(std::shared_ptr<const CacheFile> file, const fs::path& path,
+              const OIIO::ImageSpec& spec, int miplevel)
+      : file_(std::move(file)),
+        path_(path),
+        miplevel_(miplevel),
+        x_(spec.x),
+        y_(spec.y),
+        z_(spec.z),
+        nc_(spec.nchannels),
+        alpha_(alpha_channel(spec)) {}
 
   bool read(int x0, int y0, int w, int h, int stride, bool decode_srgb, bool premultiply,
             float* rgba) const override {
     thread_local std::vector<float> values;
     values.resize(static_cast<std::size_t>(w) * h * nc_);
-    const bool ok = handle_ && cache_->get_pixels(handle_, perthread(), 0, 0, x_ + x0, x_ + x0 + w,
-                                                  y_ + y0, y_ + y0 + h, z_, z_ + 1, 0, nc_,
-                                                  OIIO::TypeDesc::FLOAT, values.data());
-    if (!ok) {
-      set_error(path_.string() + ": cannot decode (truncated or corrupt?): " + cache_error());
+    if (!file_->get_pixels(miplevel_, x_ + x0, x_ + x0 + w, y_ + y0, y_ + y0 + h, z_, nc_,
+                           values.data())) {
+      set_error(path_.string() + ": cannot decode (truncated or corrupt?): " + file_->error());
       for (int r = 0; r < h; ++r) {
         std::fill_n(rgba + static_cast<std::size_t>(r) * stride * 4,
                     static_cast<std::size_t>(w) * 4, 0.f);
@@ -324,25 +388,10 @@ class CachedImage final : public TileSource {
   }
 
  private:
-  // The calling thread's record of the cache (ImageCache's "Perthread"),
-  // made here and destroyed with the cache: the app-managed option of
-  // imagecache.h. With OIIO's own (get_perthread_info()) each thread's
-  // record is freed when the thread ends, under a static mutex of OIIO's;
-  // TBB's workers end during the process's teardown, after OIIO's statics
-  // are gone, and crashed the Python interpreter's exit now and then.
-  OIIO::ImageCache::Perthread* perthread() const {
-    std::lock_guard<std::mutex> lock(perthread_mutex_);
-    OIIO::ImageCache::Perthread*& info = perthread_[std::this_thread::get_id()];
-    if (!info) info = cache_->create_thread_info();
-    return info;
-  }
-
+  std::shared_ptr<const CacheFile> file_;
   fs::path path_;
+  int miplevel_;
   int x_, y_, z_, nc_, alpha_;
-  OIIO::ImageCache* cache_;
-  OIIO::ImageCache::ImageHandle* handle_ = nullptr;
-  mutable std::mutex perthread_mutex_;
-  mutable std::map<std::thread::id, OIIO::ImageCache::Perthread*> perthread_;
 };
 
 // Whether read_image opens the image of header `spec` through the cache:
@@ -360,7 +409,8 @@ bool goes_through_cache(const OIIO::ImageSpec& spec, const ImageReadOptions& opt
 
 Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
                             const std::string& format, long long stored_bytes,
-                            const ImageReadOptions& options) {
+                            const ImageReadOptions& options,
+                            const std::vector<std::pair<int, int>>& mip_sizes) {
   if (Status s = check_header(header, format, stored_bytes, path, /*whole=*/false); !s) {
     return s.error();
   }
@@ -368,32 +418,48 @@ Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
   // (mapping/tiled_image.h), less a tenth for what the ImageCache holds
   // besides its tiles and for the heap's slack as tiles come and go (so
   // the peak measured by bench/large_images stays within the budget); at
-  // least a quarter of it for the file's tiles.
+  // least a quarter of it for the file's tiles. One cache for all the
+  // file's MIP levels.
   const double budget = static_cast<double>(options.cache_mb);
   const double threads = std::max(1u, std::thread::hardware_concurrency());
   const double tile_caches =
       threads * static_cast<double>(tile_cache_bytes_per_thread()) / (1 << 20);
-  auto cached = std::make_shared<CachedImage>(
-      path, header, static_cast<float>(std::max(budget / 4, 0.9 * (budget - tile_caches))));
-  const OIIO::ImageSpec* spec = cached->spec();
-  if (!spec) {
-    return image_error(ErrorCode::kParse, path,
-                       "cannot read as an image: " + cached->cache_error());
+  auto file = std::make_shared<const CacheFile>(
+      path, static_cast<float>(std::max(budget / 4, 0.9 * (budget - tile_caches))));
+  // Level `miplevel`, with its first and last texel read: a file whose
+  // header claims more than it holds (truncated, or a lying size) fails
+  // here, before the bake; damage in between is reported by the bake when
+  // it reads there (TileSource::failed).
+  auto open_level = [&](int miplevel) -> Expected<Image> {
+    const OIIO::ImageSpec* spec = file->spec(miplevel);
+    if (!spec) {
+      return image_error(ErrorCode::kParse, path, "cannot read as an image: " + file->error());
+    }
+    auto cached = std::make_shared<CachedImage>(file, path, *spec, miplevel);
+    Image img;
+    img.width = spec->width;
+    img.height = spec->height;
+    img.has_alpha = alpha_channel(*spec) >= 0;
+    set_color_space(*spec, options, img);
+    float probe[4];
+    if (!cached->read(0, 0, 1, 1, 1, false, false, probe) ||
+        !cached->read(img.width - 1, img.height - 1, 1, 1, 1, false, false, probe)) {
+      return make_error(ErrorCode::kParse, cached->error());
+    }
+    img.tiles = std::move(cached);
+    return img;
+  };
+  Expected<Image> img = open_level(0);
+  if (!img || mip_sizes.empty()) return img;
+  auto mip = std::make_shared<Image::MipLevels>();
+  for (std::size_t i = 0; i < mip_sizes.size(); ++i) {
+    Expected<Image> level = open_level(static_cast<int>(i) + 1);
+    if (!level) return level.error();
+    level->color_space = img->color_space;
+    mip->levels.push_back(std::move(*level));
   }
-  Image img;
-  img.width = spec->width;
-  img.height = spec->height;
-  img.has_alpha = alpha_channel(*spec) >= 0;
-  set_color_space(*spec, options, img);
-  // The first and the last texel: a file whose header claims more than it
-  // holds (truncated, or a lying size) fails here, before the bake; damage
-  // in between is reported by the bake when it reads there (TileSource::failed).
-  float probe[4];
-  if (!cached->read(0, 0, 1, 1, 1, false, false, probe) ||
-      !cached->read(img.width - 1, img.height - 1, 1, 1, 1, false, false, probe)) {
-    return make_error(ErrorCode::kParse, cached->error());
-  }
-  img.tiles = std::move(cached);
+  for (const Image& level : mip->levels) mip->views.push_back(level.view());
+  img->mip = std::move(mip);
   return img;
 }
 
@@ -414,13 +480,28 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
   // A size that could not be read takes no part in the compression check.
   const long long stored =
       ec ? std::numeric_limits<long long>::max() : static_cast<long long>(size);
+  const std::vector<std::pair<int, int>> mip_sizes =
+      options.mip_levels ? mip_chain(*in) : std::vector<std::pair<int, int>>{};
   if (goes_through_cache(in->spec(), options)) {
     const OIIO::ImageSpec spec = in->spec();
     const std::string format = in->format_name();
     in.reset();
-    return open_cached(path, spec, format, stored, options);
+    return open_cached(path, spec, format, stored, options, mip_sizes);
   }
-  return decode_image(std::move(in), path, stored, options);
+  Expected<Image> img = decode_image(in.get(), path, stored, options);
+  if (!img || mip_sizes.empty()) return img;
+  // A MIP-mapped file: its levels are decoded too, as level 0 is.
+  auto mip = std::make_shared<Image::MipLevels>();
+  for (std::size_t i = 0; i < mip_sizes.size(); ++i) {
+    Expected<Image> level = decode_image(in.get(), path, stored, options, static_cast<int>(i) + 1);
+    if (!level) return level.error();
+    level->color_space = img->color_space;
+    img->nonfinite_values += level->nonfinite_values;
+    mip->levels.push_back(std::move(*level));
+  }
+  for (const Image& level : mip->levels) mip->views.push_back(level.view());
+  img->mip = std::move(mip);
+  return img;
 }
 
 Expected<Image> read_image_from_memory(std::span<const unsigned char> bytes,
@@ -448,7 +529,7 @@ Expected<Image> read_image_from_memory(std::span<const unsigned char> bytes,
     return image_error(ErrorCode::kParse, name,
                        "cannot read as an image: " + first_line(OIIO::geterror()));
   }
-  return decode_image(std::move(in), name, static_cast<long long>(bytes.size()), options);
+  return decode_image(in.get(), name, static_cast<long long>(bytes.size()), options);
 }
 
 namespace {

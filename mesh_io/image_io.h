@@ -93,10 +93,25 @@ struct Image {
   // read_image: whether the file has an alpha channel (a grey + alpha or an
   // RGBA file, or OpenImageIO's alpha channel); alpha is 1 everywhere when not.
   bool has_alpha = false;
+  // read_image of a MIP-mapped file (several MIP levels, as maketx writes
+  // them: each level max(1, floor(previous / 2)) a side, down to 1 x 1):
+  // levels 1 .., read as level 0 is (in memory or through the same cache),
+  // in its encoding. Null for a plain image, or when the file's levels are
+  // not that chain (they are then not used). Shared and immutable, so a
+  // copy of the Image views the same levels.
+  struct MipLevels {
+    std::vector<Image> levels;     // levels 1 ..
+    std::vector<ImageView> views;  // their views, in the same order
+  };
+  std::shared_ptr<const MipLevels> mip;
 
   ImageView view() const {
     ImageView v{width, height, tiles ? nullptr : pixels.data(), color_space};
     v.tiles = tiles.get();
+    if (mip) {
+      v.mip_levels = mip->views.data();
+      v.mip_level_count = static_cast<int>(mip->views.size());
+    }
     return v;
   }
 };
@@ -119,6 +134,9 @@ struct ImageReadOptions {
   // How many float RGBA copies of the image the caller would hold in memory
   // (the image, a linear working copy, a MIP pyramid's third, ...).
   double memory_copies = 1;
+  // Read a MIP-mapped file's levels above the full size too (Image::mip;
+  // for --filter ewa), in memory or through the cache as level 0 is.
+  bool mip_levels = false;
 };
 
 // The default budget of --cache-mb.

@@ -474,7 +474,9 @@ int run_bake(const BakeCliOptions& o) {
       read_image(o.texture, texture_read_options(o.texture_colorspace, o.cache_mb, o.linear, ewa));
   if (!image) return report_error(image.error());
   if (ewa) {
-    if (Status s = check_ewa_budget(*image, o.cache_mb); !s) return report_error(s.error());
+    if (Status s = check_ewa_budget(*image, o.cache_mb, o.linear); !s) {
+      return report_error(s.error());
+    }
   }
   report.load += seconds_since(stage_start);
   report.image_width = image->width;
@@ -576,8 +578,10 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
                      {"ewa", VertexFilter::kEwa}},
                     "vertex: bilinear (sample at the vertex), area (average of --samples over "
                     "the vertex's share of its triangles, default) or ewa (one elliptical "
-                    "weighted average over a MIP pyramid, sized by the vertex's share); atlas: "
-                    "bilinear (default) or ewa (each supersample filtered by its footprint)");
+                    "weighted average over a MIP pyramid, sized by the vertex's share; a "
+                    "MIP-mapped texture file's own levels, as maketx writes them, are used); "
+                    "atlas: bilinear (default) or ewa (each supersample filtered by its "
+                    "footprint)");
   cmd->add_option_function<int>(
          "--samples", [o](int n) { o->samples = n; },
          "vertex: samples per vertex for --filter area (default 16, 1..65536); atlas: "

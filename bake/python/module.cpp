@@ -344,7 +344,7 @@ ImageArg bake_image_arg(const py::handle& obj, std::size_t cache_mb, const Verte
     out.converted = check(
         read_image(path, texture_read_options(TextureColorSpace::kAuto, cache_mb, o.linear, ewa)));
   }
-  if (ewa) check(check_ewa_budget(out.converted, cache_mb));
+  if (ewa) check(check_ewa_budget(out.converted, cache_mb, o.linear));
   out.view = out.converted.view();
   return out;
 }

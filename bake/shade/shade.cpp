@@ -14,6 +14,10 @@ WorkingImage working_image(const ImageView& image, bool linear) {
   out.view = image;
   if (!linear || image.color_space == ColorSpace::kLinear) return out;
   out.view.color_space = ColorSpace::kLinear;
+  // The file's MIP levels (ImageView::mip_levels) average the stored
+  // sRGB values, not linear light: the pyramid is built from this view.
+  out.view.mip_levels = nullptr;
+  out.view.mip_level_count = 0;
   if (!image.data) {
     // A tiled image is linearised as its tiles are loaded (the same
     // transform_texel on the same values: the same bits as the copy).

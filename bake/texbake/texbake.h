@@ -176,14 +176,18 @@ Expected<CompletedProxy> complete_proxy(const ProxySpec& spec, const MeshData& m
 // RGBA copies the bake holds besides the image (a linear working copy with
 // `linear`, a MIP pyramid's third with `ewa`), past which read_image reads
 // the texture in tiles through OpenImageIO's ImageCache (mesh_io/image_io.h).
+// `ewa`: also read a MIP-mapped file's own levels (Image::mip), which
+// --filter ewa then uses instead of reducing the image (mapping/mipmap.h).
 ImageReadOptions texture_read_options(TextureColorSpace color_space, std::size_t cache_mb,
                                       bool linear, bool ewa);
 
 // --filter ewa on a texture read through the cache builds its MIP levels
 // above the full size in memory (mapping/mipmap.h), a third of the image's
 // float RGBA size: kUsage naming the sizes and --cache-mb when they exceed
-// `cache_mb`; ok for an image in memory.
-Status check_ewa_budget(const Image& image, std::size_t cache_mb);
+// `cache_mb`; ok for an image in memory, and for a MIP-mapped file whose
+// levels are read through the cache too (unless `linear` on an sRGB
+// texture, whose linear-light levels are built).
+Status check_ewa_budget(const Image& image, std::size_t cache_mb, bool linear = false);
 
 // ---- Vertex colours -------------------------------------------------------
 

@@ -12,11 +12,15 @@ ImageReadOptions texture_read_options(TextureColorSpace color_space, std::size_t
   o.color_space = color_space;
   o.cache_mb = cache_mb;
   o.memory_copies = 1 + (linear ? 1.0 : 0.0) + (ewa ? 1.0 / 3 : 0.0);
+  o.mip_levels = ewa;
   return o;
 }
 
-Status check_ewa_budget(const Image& image, std::size_t cache_mb) {
+Status check_ewa_budget(const Image& image, std::size_t cache_mb, bool linear) {
   if (!image.tiles) return ok_status();
+  // The file's own levels, read through the same cache (unless --linear
+  // makes linear-light levels of an sRGB texture necessary).
+  if (image.mip && !(linear && image.color_space == ColorSpace::kSrgb)) return ok_status();
   double bytes = 0;
   for (long long w = image.width, h = image.height; w > 1 || h > 1;) {
     w = std::max(1ll, w / 2);

@@ -8,6 +8,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <random>
@@ -105,6 +106,85 @@ TEST_F(CacheCli, EwaNeedsItsMipLevelsWithinTheBudget) {
       << r.err;
   EXPECT_FALSE(fs::exists(out));
   expect_same_both_ways("ewa.ply", "--filter ewa", "--cache-mb 4");
+}
+
+// Writes the 1024 x 512 noise of `texture` as an 8-bit TIFF, with MIP levels
+// 512 x 256 .. 1 x 1 of the constant colour (200, 40, 90) when `levels`
+// (as maketx lays a texture out: further directories of a file marked as a
+// texture). The levels are deliberately not the noise's average (about
+// 127.5 a channel), so an atlas texel tells which pyramid it came from.
+void write_tiff(const fs::path& texture, const fs::path& path, bool levels) {
+  auto in = OIIO::ImageInput::open(texture.string());
+  ASSERT_TRUE(in);
+  std::vector<unsigned char> rgb(1024 * 512 * 3);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 3, OIIO::TypeDesc::UINT8, rgb.data()));
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  for (int w = 1024, h = 512, l = 0; l == 0 || (levels && (w > 1 || h > 1)); ++l) {
+    if (l > 0) {
+      w = std::max(1, w / 2);
+      h = std::max(1, h / 2);
+      rgb.clear();
+      for (int i = 0; i < w * h; ++i) rgb.insert(rgb.end(), {200, 40, 90});
+    }
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+    spec.tile_width = spec.tile_height = 64;
+    if (levels) spec.attribute("textureformat", "Plain Texture");
+    ASSERT_TRUE(l == 0 ? out->open(path.string(), spec)
+                       : out->open(path.string(), spec, OIIO::ImageOutput::AppendSubimage))
+        << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb.data())) << out->geterror();
+  }
+  ASSERT_TRUE(out->close());
+}
+
+// The atlas texels of `png` equal to (200, 40, 90).
+int level_colour_texels(const fs::path& png) {
+  auto in = OIIO::ImageInput::open(png.string());
+  if (!in) return -1;
+  const int w = in->spec().width, h = in->spec().height, nc = in->spec().nchannels;
+  std::vector<unsigned char> px(static_cast<std::size_t>(w) * h * nc);
+  if (!in->read_image(0, 0, 0, nc, OIIO::TypeDesc::UINT8, px.data())) return -1;
+  int n = 0;
+  for (std::size_t i = 0; i < px.size(); i += nc) {
+    n += px[i] == 200 && px[i + 1] == 40 && px[i + 2] == 90;
+  }
+  return n;
+}
+
+TEST_F(CacheCli, EwaReadsAMipMappedFilesOwnLevelsInMemoryAndThroughTheCache) {
+  const fs::path mip = dir_ / "mip.tif", plain = dir_ / "plain.tif";
+  write_tiff(texture_, mip, true);
+  write_tiff(texture_, plain, false);
+  // A 32 x 32 atlas: every texel's footprint covers many image texels, so
+  // its lookups read levels >= 1 only, all (200, 40, 90).
+  const std::string atlas =
+      "--target atlas --uv generate --size 32 --samples 1 --visibility all --filter ewa";
+  for (const char* sub : {"memory", "cached", "plain", "linear", "plain_linear"}) {
+    fs::create_directories(dir_ / sub);
+  }
+  auto run = [&](const fs::path& texture, const std::string& sub, const std::string& extra) {
+    auto r = run_texbake(bake(texture, dir_ / sub / "a.obj", atlas + " " + extra));
+    EXPECT_EQ(r.exit_code, 0) << sub << ": " << r.err;
+    return slurp(dir_ / sub / "a.png");
+  };
+  const std::string memory = run(mip, "memory", "");
+  // Through the cache the levels are read from the file too (no pyramid
+  // is built, so even 1 MiB is enough), with the same bytes.
+  const std::string cached = run(mip, "cached", "--cache-mb 1");
+  EXPECT_TRUE(memory == cached) << "the cache read other levels";
+  const int n = level_colour_texels(dir_ / "memory" / "a.png");
+  EXPECT_GT(n, 32 * 32 / 4);  // the baked texels and their padding
+  // The same texels without the file's levels: the reduced noise, never
+  // exactly the levels' colour.
+  run(plain, "plain", "");
+  EXPECT_EQ(level_colour_texels(dir_ / "plain" / "a.png"), 0);
+  // --linear of this sRGB texture needs linear-light levels: the file's
+  // (averages of the stored values) are not used, the bake is the plain one.
+  EXPECT_TRUE(run(mip, "linear", "--linear") == run(plain, "plain_linear", "--linear"));
+  // A bilinear bake does not read the levels at all: within the 1 MiB budget.
+  auto r = run_texbake(bake(mip, dir_ / "bilinear.ply", "--filter bilinear --cache-mb 1"));
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 TEST_F(CacheCli, RenderOfTheProjectionIsByteIdenticalThroughTheCache) {

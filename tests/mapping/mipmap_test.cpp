@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -48,8 +49,60 @@ TEST(MipPyramid, EvenLevelsByHand) {
   EXPECT_EQ(mip.level(2).pixel(0, 0)[0], 65);
   EXPECT_EQ(mip.level(2).pixel(0, 0)[2], 0.25f);
   EXPECT_EQ(mip.level(0).data, img.pixels.data());  // level 0 is the image, not a copy
-  // Levels 1 and 2, and the row means of all three levels (2 + 1 + 1 rows).
+  // Levels 1 and 2; the row means only once asked for: (0 + 10 + 20 + 30) / 4 = 15,
+  // (100 + ... + 130) / 4 = 115, then 65 and 65, all three levels (2 + 1 + 1 rows).
+  EXPECT_EQ(mip.owned_bytes(), (2 + 1) * 4 * sizeof(float));
+  EXPECT_EQ(mip.row_mean(0, 0)[0], 15);
+  EXPECT_EQ(mip.row_mean(0, 1)[0], 115);
+  EXPECT_EQ(mip.row_mean(1, 0)[0], 65);
+  EXPECT_EQ(mip.row_mean(2, 0)[0], 65);
   EXPECT_EQ(mip.owned_bytes(), (2 + 1) * 4 * sizeof(float) + (2 + 1 + 1) * 4 * sizeof(double));
+  EXPECT_FALSE(mip.given_levels());
+}
+
+// A MIP-mapped file's own levels (ImageView::mip_levels) are viewed as they
+// are, not recomputed: here levels deliberately unlike the box reduction
+// (a constant 0.25 red over a 0 / 1 checkerboard whose mean is 0.5), so
+// every lookup that reaches them tells which pyramid it read.
+TEST(MipPyramid, GivenLevelsAreUsedAsTheyAre) {
+  const TestImage img = make_image(16, 8, [](int x, int y) { return static_cast<float>((x + y) % 2); });
+  std::vector<TestImage> given;
+  for (int w = 8, h = 4; w >= 1; w /= 2, h = std::max(1, h / 2)) {
+    given.push_back(make_image(w, h, [](int, int) { return 0.25f; }));
+  }
+  std::vector<ImageView> views;
+  for (const TestImage& g : given) views.push_back(g.view());
+  ImageView base = img.view();
+  base.mip_levels = views.data();
+  base.mip_level_count = static_cast<int>(views.size());
+  const MipPyramid mip(base);
+  ASSERT_EQ(mip.levels(), 5);
+  EXPECT_TRUE(mip.given_levels());
+  for (int i = 1; i < 5; ++i) EXPECT_EQ(mip.level(i).data, given[i - 1].pixels.data()) << i;
+  EXPECT_EQ(mip.level(0).mip_level_count, 0);
+  EXPECT_EQ(mip.owned_bytes(), 0u);
+  // Row means: level 0's from the checkerboard (0.5), level 2's from its own texels.
+  EXPECT_EQ(mip.row_mean(0, 3)[0], 0.5);
+  EXPECT_EQ(mip.row_mean(2, 1)[0], 0.25);
+  // A footprint of exactly 4 level-0 texels a side: lod 2, level 2 alone.
+  const UvFootprint four{{4.0 / 16, 0}, {0, 4.0 / 8}};
+  for (WrapMode wu : {WrapMode::kClamp, WrapMode::kRepeat}) {
+    const Rgba r = sample_ewa(mip, {0.4, 0.6}, four, wu, WrapMode::kClamp);
+    EXPECT_EQ(r[0], 0.25f);
+    EXPECT_EQ(r[1], 0.75f);
+  }
+  // The same image without its levels reduces the checkerboard: 0.5.
+  const MipPyramid built(img.view());
+  EXPECT_FALSE(built.given_levels());
+  EXPECT_EQ(sample_ewa(built, {0.4, 0.6}, four, WrapMode::kClamp, WrapMode::kClamp)[0], 0.5f);
+  // A view whose texels are transformed as they load (decode_srgb,
+  // premultiply) cannot use levels made from the stored values.
+  ImageView transformed = base;
+  transformed.decode_srgb = true;
+  EXPECT_FALSE(MipPyramid(transformed).given_levels());
+  transformed.decode_srgb = false;
+  transformed.premultiply = true;
+  EXPECT_FALSE(MipPyramid(transformed).given_levels());
 }
 
 TEST(MipPyramid, OddLevelsAreExactBoxes) {

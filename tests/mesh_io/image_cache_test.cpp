@@ -220,3 +220,113 @@ TEST_F(ImageCacheFiles, ALostTileInBetweenIsAnErrorNamingTheFileAfterThePass) {
 
 }  // namespace
 }  // namespace texbake
+
+namespace texbake {
+namespace {
+
+// Writes a MIP-mapped 8-bit RGB TIFF (tiled 16, as maketx writes textures)
+// of the given level sizes; texel (x, y) of level l is ((x + 3 y + 50 l)
+// mod 256, l, 7) / 255.
+void write_mip_tiff(const fs::path& path, const std::vector<std::pair<int, int>>& sizes) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out) << path;
+  for (std::size_t l = 0; l < sizes.size(); ++l) {
+    const auto [w, h] = sizes[l];
+    OIIO::ImageSpec spec(w, h, 3, OIIO::TypeDesc::UINT8);
+    spec.tile_width = spec.tile_height = 16;
+    std::vector<unsigned char> rgb;
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        rgb.insert(rgb.end(), {static_cast<unsigned char>((x + 3 * y + 50 * l) % 256),
+                               static_cast<unsigned char>(l), 7});
+      }
+    }
+    // As maketx writes a MIP-mapped TIFF: the levels as further
+    // directories of a file marked as a texture, which readers take as
+    // MIP levels (OIIO's TIFF writer has no AppendMIPLevel).
+    spec.attribute("textureformat", "Plain Texture");
+    ASSERT_TRUE(l == 0 ? out->open(path.string(), spec)
+                       : out->open(path.string(), spec, OIIO::ImageOutput::AppendSubimage))
+        << out->geterror();
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, rgb.data())) << out->geterror();
+  }
+  ASSERT_TRUE(out->close());
+}
+
+TEST_F(ImageCacheFiles, MipLevelsOfAMipMappedFileAreReadInMemoryAndThroughTheCache) {
+  // 45 x 20: levels 22 x 10, 11 x 5, 5 x 2, 2 x 1, 1 x 1 (floor halving).
+  const std::vector<std::pair<int, int>> sizes = {{45, 20}, {22, 10}, {11, 5},
+                                                  {5, 2},   {2, 1},   {1, 1}};
+  const fs::path path = dir / "mip.tif";
+  write_mip_tiff(path, sizes);
+  ImageReadOptions memory;
+  memory.mip_levels = true;
+  ImageReadOptions cached = forced_cache();
+  cached.mip_levels = true;
+  Expected<Image> a = read_image(path, memory);
+  Expected<Image> b = read_image(path, cached);
+  ASSERT_TRUE(a) << a.error().message;
+  ASSERT_TRUE(b) << b.error().message;
+  EXPECT_FALSE(a->tiles);
+  EXPECT_TRUE(b->tiles);
+  for (const Image* img : {&*a, &*b}) {
+    ASSERT_TRUE(img->mip);
+    ASSERT_EQ(img->mip->levels.size(), sizes.size() - 1);
+    const ImageView v = img->view();
+    ASSERT_EQ(v.mip_level_count, static_cast<int>(sizes.size()) - 1);
+    for (std::size_t l = 1; l < sizes.size(); ++l) {
+      const ImageView& level = v.mip_levels[l - 1];
+      ASSERT_EQ(level.width, sizes[l].first);
+      ASSERT_EQ(level.height, sizes[l].second);
+      EXPECT_EQ(level.color_space, ColorSpace::kSrgb);
+      for (int y = 0; y < level.height; ++y) {
+        for (int x = 0; x < level.width; ++x) {
+          const Rgba t = level.texel(x, y);
+          ASSERT_FLOAT_EQ(t[0], static_cast<float>((x + 3 * y + 50 * l) % 256) / 255) << l;
+          ASSERT_FLOAT_EQ(t[1], static_cast<float>(l) / 255);
+          ASSERT_FLOAT_EQ(t[2], 7.f / 255);
+          ASSERT_EQ(t[3], 1.f);
+        }
+      }
+    }
+  }
+  // Every level's texels are the same bits both ways.
+  for (std::size_t l = 0; l + 1 < sizes.size(); ++l) {
+    const ImageView& la = a->view().mip_levels[l];
+    const ImageView& lb = b->view().mip_levels[l];
+    for (int y = 0; y < la.height; ++y) {
+      for (int x = 0; x < la.width; ++x) ASSERT_TRUE(same_bits(la.texel(x, y), lb.texel(x, y)));
+    }
+  }
+  // Without mip_levels (every filter but ewa) the levels are not read.
+  Expected<Image> plain = read_image(path);
+  ASSERT_TRUE(plain);
+  EXPECT_FALSE(plain->mip);
+  EXPECT_EQ(plain->view().mip_level_count, 0);
+}
+
+TEST_F(ImageCacheFiles, MipLevelsThatAreNotTheHalvingChainAreNotUsed) {
+  ImageReadOptions o;
+  o.mip_levels = true;
+  // Level 1 rounded up (23 x 10, not 22 x 10), and a chain stopping at 4 x 2.
+  for (const auto& sizes : {std::vector<std::pair<int, int>>{{45, 20}, {23, 10}, {11, 5}},
+                            std::vector<std::pair<int, int>>{{16, 8}, {8, 4}, {4, 2}}}) {
+    const fs::path path = dir / ("odd_" + std::to_string(sizes[1].first) + ".tif");
+    write_mip_tiff(path, sizes);
+    for (const ImageReadOptions& options : {o, [&] {
+           ImageReadOptions c = forced_cache();
+           c.mip_levels = true;
+           return c;
+         }()}) {
+      Expected<Image> img = read_image(path, options);
+      ASSERT_TRUE(img) << img.error().message;
+      EXPECT_FALSE(img->mip) << path;
+      EXPECT_EQ(img->width, sizes[0].first);
+      // Level 0 is read as ever.
+      EXPECT_FLOAT_EQ(img->view().texel(2, 1)[0], 5.f / 255);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace texbake
