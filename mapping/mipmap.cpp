@@ -219,23 +219,24 @@ MipPyramid::MipPyramid(const ImageView& base, const RowRunner& for_rows) {
     }
   }
   row_means_.resize(views_.size());
-  for (auto& r : row_means_) r = std::make_unique<RowMeans>();
+  for (std::size_t i = 0; i < views_.size(); ++i) {
+    const std::size_t h = static_cast<std::size_t>(views_[i].height);
+    row_means_[i] = std::make_unique<RowMeans>();
+    row_means_[i]->once = std::make_unique<std::once_flag[]>(h);
+    row_means_[i]->means.assign(h * 4, 0.0);
+  }
 }
 
-void MipPyramid::compute_row_means(int i) const {
+void MipPyramid::compute_row_mean(int i, int y) const {
   const ImageView& level = views_[static_cast<std::size_t>(i)];
-  std::vector<double>& means = row_means_[static_cast<std::size_t>(i)]->means;
-  means.assign(static_cast<std::size_t>(level.height) * 4, 0.0);
+  double* m = &row_means_[static_cast<std::size_t>(i)]->means[static_cast<std::size_t>(y) * 4];
   std::vector<float> scratch;
-  for (int y = 0; y < level.height; ++y) {
-    double* m = &means[static_cast<std::size_t>(y) * 4];
-    const float* row = row_of(level, y, scratch);
-    for (int x = 0; x < level.width; ++x) {
-      const float* p = row + static_cast<std::size_t>(x) * 4;
-      for (int k = 0; k < 4; ++k) m[k] += p[k];
-    }
-    for (int k = 0; k < 4; ++k) m[k] /= level.width;
+  const float* row = row_of(level, y, scratch);
+  for (int x = 0; x < level.width; ++x) {
+    const float* p = row + static_cast<std::size_t>(x) * 4;
+    for (int k = 0; k < 4; ++k) m[k] += p[k];
   }
+  for (int k = 0; k < 4; ++k) m[k] /= level.width;
 }
 
 std::size_t MipPyramid::owned_bytes() const {

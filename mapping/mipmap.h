@@ -92,25 +92,25 @@ class MipPyramid {
   const ImageView& level(int i) const { return views_[static_cast<std::size_t>(i)]; }
   // Whether the levels above 0 are the image's own (ImageView::mip_levels).
   bool given_levels() const { return owned_.empty() && views_.size() > 1; }
-  // The mean of row y of level i (4 channels, double). A level's row means
-  // are computed when first asked for (serially, by the asking thread;
-  // the others wait): only footprints as wide as the period use them, so
-  // most bakes never read a level whole for them.
+  // The mean of row y of level i (4 channels, double). Each row's mean is
+  // computed when first asked for, by the asking thread (others asking for
+  // it wait): only footprints as wide as the period use them, at the rows
+  // near a pole, so a bake never reads a whole level for them.
   const double* row_mean(int i, int y) const {
-    const std::size_t l = static_cast<std::size_t>(i);
-    std::call_once(row_means_[l]->once, [this, i] { compute_row_means(i); });
-    return &row_means_[l]->means[static_cast<std::size_t>(y) * 4];
+    RowMeans& r = *row_means_[static_cast<std::size_t>(i)];
+    std::call_once(r.once[y], [this, i, y] { compute_row_mean(i, y); });
+    return &r.means[static_cast<std::size_t>(y) * 4];
   }
-  // The bytes the levels above 0 and the row means computed so far hold
-  // (level 0, and given levels, are the caller's).
+  // The bytes the levels above 0 and the row means hold (level 0, and
+  // given levels, are the caller's).
   std::size_t owned_bytes() const;
 
  private:
   struct RowMeans {
-    std::once_flag once;
-    std::vector<double> means;  // height * 4
+    std::unique_ptr<std::once_flag[]> once;  // height
+    std::vector<double> means;               // height * 4
   };
-  void compute_row_means(int i) const;
+  void compute_row_mean(int i, int y) const;
 
   std::vector<std::vector<float>> owned_;              // levels 1 .. (when reduced here)
   std::vector<ImageView> views_;                       // levels 0 ..

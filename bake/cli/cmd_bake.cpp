@@ -482,6 +482,10 @@ int run_bake(const BakeCliOptions& o) {
   report.image_width = image->width;
   report.image_height = image->height;
   report.image_cached = image->tiles != nullptr;
+  // The file's levels, unless --linear needs linear-light ones (working_image).
+  if (ewa && image->mip && !(o.linear && image->color_space == ColorSpace::kSrgb)) {
+    report.image_mip_levels = static_cast<int>(image->mip->levels.size());
+  }
   warn_nonfinite(*image, o.texture);
   warn_color_space(*image, o.texture);
 

@@ -84,8 +84,10 @@ std::string report_json(const BakeReport& r) {
   inputs["mesh"] = r.mesh_path;
   inputs["texture"] = r.texture_path;
   inputs["output"] = r.output_path;
-  inputs["image"] = {
-      {"width", r.image_width}, {"height", r.image_height}, {"cached", r.image_cached}};
+  inputs["image"] = {{"width", r.image_width},
+                     {"height", r.image_height},
+                     {"cached", r.image_cached},
+                     {"mip_levels", r.image_mip_levels}};
   ordered_json& o = inputs["options"];
   if (atlas) {
     o["filter"] = r.options.filter == VertexFilter::kEwa ? "ewa" : "bilinear";

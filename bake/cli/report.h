@@ -58,6 +58,9 @@ struct BakeReport {
   std::string mesh_path, texture_path, output_path;
   int image_width = 0, image_height = 0;
   bool image_cached = false;  // read in tiles through the ImageCache (--cache-mb)
+  // The texture file's own MIP levels above the full size that --filter ewa
+  // uses (a MIP-mapped file); 0 when the bake reduces the image itself.
+  int image_mip_levels = 0;
   VertexBakeOptions options;  // shading (filter and samples: vertex target)
   int threads = 0;            // 0 = all cores
   ProxyParams proxy;

@@ -168,7 +168,9 @@ TEST_F(CacheCli, EwaReadsAMipMappedFilesOwnLevelsInMemoryAndThroughTheCache) {
     EXPECT_EQ(r.exit_code, 0) << sub << ": " << r.err;
     return slurp(dir_ / sub / "a.png");
   };
-  const std::string memory = run(mip, "memory", "");
+  const std::string memory = run(mip, "memory", "--report " + quoted(dir_ / "memory.json"));
+  // 512 x 256 .. 1 x 1: ten levels, taken from the file.
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "memory.json"))["inputs"]["image"]["mip_levels"], 10);
   // Through the cache the levels are read from the file too (no pyramid
   // is built, so even 1 MiB is enough), with the same bytes.
   const std::string cached = run(mip, "cached", "--cache-mb 1");
@@ -181,7 +183,9 @@ TEST_F(CacheCli, EwaReadsAMipMappedFilesOwnLevelsInMemoryAndThroughTheCache) {
   EXPECT_EQ(level_colour_texels(dir_ / "plain" / "a.png"), 0);
   // --linear of this sRGB texture needs linear-light levels: the file's
   // (averages of the stored values) are not used, the bake is the plain one.
-  EXPECT_TRUE(run(mip, "linear", "--linear") == run(plain, "plain_linear", "--linear"));
+  EXPECT_TRUE(run(mip, "linear", "--linear --report " + quoted(dir_ / "linear.json")) ==
+              run(plain, "plain_linear", "--linear"));
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "linear.json"))["inputs"]["image"]["mip_levels"], 0);
   // A bilinear bake does not read the levels at all: within the 1 MiB budget.
   auto r = run_texbake(bake(mip, dir_ / "bilinear.ply", "--filter bilinear --cache-mb 1"));
   EXPECT_EQ(r.exit_code, 0) << r.err;

@@ -344,3 +344,59 @@ TEST(AtlasBake, BadInputIsRejected) {
 
 }  // namespace
 }  // namespace texbake
+
+namespace texbake {
+namespace {
+
+// --filter ewa's footprint on the atlas, read off the MIP level it lands
+// on: a unit square under a plane proxy with atlas UV = proxy UV, so an
+// atlas texel of a 64 atlas covers 1024 / 64 = 16 image texels a side of a
+// 1024 x 1024 image, whose given MIP levels (ImageView::mip_levels, as a
+// MIP-mapped file's) are constants: level L has red L / 16. A lookup whose
+// ellipse has semi-axes s texels reads lod = log2(s), the blend of levels
+// floor(lod) and the next with weight frac(lod), so red = lod / 16.
+// By hand (README, Footprint filtering): one sample per texel, semi-axes
+// 0.85 x 16 / sqrt(2) = 9.617 texels, lod 3.266; four samples, cells of
+// 8 texels, semi-axes 8 / sqrt(2) = 5.657, lod 2.5.
+TEST(AtlasBake, EwaFootprintIsTheSupersampleCellsEllipse) {
+  std::vector<Float3> pos = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  std::vector<Float2> uv;
+  for (const Float3& p : pos) uv.push_back({p.x, p.y});
+  const MeshData mesh = test::make_triangle_soup(pos, uv);
+  const Proxy plane = make_proxy(PlaneParams{}).value();
+  std::vector<std::vector<float>> levels;
+  for (int l = 0, w = 1024; w >= 1; ++l, w /= 2) {
+    std::vector<float> texels(static_cast<std::size_t>(w) * w * 4);
+    for (std::size_t i = 0; i < texels.size(); i += 4) {
+      texels[i] = static_cast<float>(l) / 16;
+      texels[i + 3] = 1;
+    }
+    levels.push_back(std::move(texels));
+  }
+  std::vector<ImageView> views;
+  for (std::size_t l = 1; l < levels.size(); ++l) {
+    const int w = 1024 >> l;
+    views.push_back(ImageView{w, w, levels[l].data(), ColorSpace::kSrgb});
+  }
+  ImageView image{1024, 1024, levels[0].data(), ColorSpace::kSrgb};
+  image.mip_levels = views.data();
+  image.mip_level_count = static_cast<int>(views.size());
+  for (const auto& [samples, semi_axis] :
+       {std::pair{1, 0.85 * 16 / std::sqrt(2.0)}, std::pair{4, 8 / std::sqrt(2.0)}}) {
+    SCOPED_TRACE(samples);
+    AtlasBakeOptions o = options(64, samples);
+    o.padding = 0;
+    o.shading.visibility = Visibility::kAll;
+    o.shading.filter = VertexFilter::kEwa;
+    auto r = bake_atlas(mesh, image, plane, o);
+    ASSERT_TRUE(r) << r.error().message;
+    const double red = std::log2(semi_axis) / 16;
+    for (std::size_t t = 0; t < 64 * 64; ++t) {
+      ASSERT_TRUE(r->baked[t]) << t;
+      ASSERT_NEAR(r->atlas.pixels[t * 4], red, 1e-6) << t;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace texbake

@@ -48,9 +48,9 @@ TEST(EwaBake, AtlasFootprintIsOneTexelOfTheLayout) {
   // Two triangles covering [0, 1]^2 with UV = position: an atlas texel of a
   // 16 x 16 atlas is 1/16 x 1/16 of the image under the identity plane, so
   // with one sample per texel each texel is sample_ewa at its centre with
-  // the ellipse through the texel's corners: semi-axes (1/16, 0) / sqrt(2),
-  // (0, 1/16) / sqrt(2).
-  const double h = 1 / (16 * std::sqrt(2.0));
+  // 0.85 of the ellipse through the texel's corners (README, Footprint
+  // filtering): semi-axes 0.85 (1/16, 0) / sqrt(2), 0.85 (0, 1/16) / sqrt(2).
+  const double h = 0.85 / (16 * std::sqrt(2.0));
   const MeshData mesh = test::make_flat_uv_soup({{0, 0}, {1, 0}, {1, 1}, {0, 0}, {1, 1}, {0, 1}});
   const Image img = checker_image();
   AtlasBakeOptions o;
