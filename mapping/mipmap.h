@@ -53,8 +53,10 @@
 // footprint's reach (every texel the edge's); a periodic one is taken
 // modulo 1 (a whole-period shift, so the same result).
 // A constant image gives that constant exactly (the weights are normalised
-// in double, and the result rounds back to the same float). No allocation,
-// no virtual call; a pure function of its arguments.
+// in double, and the result rounds back to the same float). No allocation
+// or virtual call (except once per row, the first time a whole-rows lookup
+// needs that row's mean: MipPyramid::row_mean); a pure function of its
+// arguments.
 #pragma once
 
 #include <cstddef>

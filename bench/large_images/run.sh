@@ -6,7 +6,11 @@
 # (the default --filter area, 16 samples) and into a 2048 atlas (generated
 # UVs, 4 samples): time and peak memory with --cache-mb 512 and 2048 for the
 # large map, and the 16384 map in memory (--cache-mb 4096) and through the
-# cache (--cache-mb 512). A benchmark run by hand, not part of the ctest suite.
+# cache (--cache-mb 512). Then --filter ewa on the 16384 map: the plain TIFF
+# (the bake builds the MIP pyramid in memory; refused at --cache-mb 512,
+# where the pyramid does not fit) against the same map MIP-mapped by
+# `maketx --filter box` (its levels read in memory or through the cache).
+# A benchmark run by hand, not part of the ctest suite.
 #
 #   bench/large_images/run.sh [-n N] [-w WORKDIR] [-t vertex|atlas|all]
 #
@@ -44,9 +48,15 @@ for size in 16384x8192 65536x32768; do
   fi
 done
 
+if [ ! -f earth_16384.tx ]; then
+  echo "making earth_16384.tx (maketx --filter box: tiled, MIP-mapped)" >&2
+  maketx --filter box -o earth_16384.part.tx earth_16384.tif >&2
+  mv earth_16384.part.tx earth_16384.tx
+fi
+
 stages='import json,sys
-r=json.load(open(sys.argv[1])); t=r["timings"]
-print("cached" if r["inputs"]["image"]["cached"] else "in memory",
+r=json.load(open(sys.argv[1])); t=r["timings"]; i=r["inputs"]["image"]
+print("cached" if i["cached"] else "in memory", i.get("mip_levels", 0),
       " ".join(f"{k} {v:.2f}" for k, v in t.items() if k not in ("total", "fit") and v >= 0.01))'
 
 echo
@@ -64,7 +74,33 @@ for target in vertex atlas; do
     read -r side budget <<<"$job"
     read -r s p r < <(median "r_${target}_${side}_$budget" bake $mesh --texture "earth_$side.tif" \
       --cache-mb "$budget" "${flags[@]}" -o "out_${target}_${side}_$budget.$ext")
-    read -r how rest < <("$py" -c "$stages" "$r" | sed 's/^in memory/in_memory/')
+    read -r how _ rest < <("$py" -c "$stages" "$r" | sed 's/^in memory/in_memory/')
     echo "| $target | earth_$side.tif | $budget | ${how/_/ } | $s | $p | $rest |"
   done
+done
+
+echo
+echo "| target (--filter ewa) | image | --cache-mb | read | file's MIP levels used | total s | peak MB | stages s (report) |"
+echo "|---|---|---|---|---|---|---|---|"
+for target in vertex atlas; do
+  [ "$which" = all ] || [ "$which" = "$target" ] || continue
+  flags=(-q --proxy-file sphere.json --filter ewa)
+  ext=ply
+  if [ "$target" = atlas ]; then
+    flags+=(--target atlas --uv generate --size 2048)
+    ext=obj
+  fi
+  for job in "earth_16384.tif 4096" "earth_16384.tx 4096" "earth_16384.tx 512"; do
+    read -r img budget <<<"$job"
+    tag=ewa_${target}_${img/./_}_$budget
+    read -r s p r < <(median "r_$tag" bake $mesh --texture "$img" --cache-mb "$budget" \
+      "${flags[@]}" -o "out_$tag.$ext")
+    read -r how levels rest < <("$py" -c "$stages" "$r" | sed 's/^in memory/in_memory/')
+    echo "| $target | $img | $budget | ${how/_/ } | $levels | $s | $p | $rest |"
+  done
+  # The plain map's pyramid (683 MiB as float) does not fit 512 MiB: a usage error.
+  rc=0
+  "$texbake" bake $mesh --texture earth_16384.tif --cache-mb 512 "${flags[@]}" \
+    -o "out_ewa_refused.$ext" 2>err.log || rc=$?
+  echo "| $target | earth_16384.tif | 512 | exit $rc: $(grep -o 'keeps the MIP levels.*MiB)' err.log) | | | | |"
 done
