@@ -67,6 +67,9 @@ bool read_rows(const ImageView& image, int y0, int y1, float* rgba) {
 }
 
 Status check_texels_read(const ImageView& image) {
+  for (int i = 0; i < image.mip_level_count; ++i) {
+    if (Status s = check_texels_read(image.mip_levels[i]); !s) return s;
+  }
   if (image.data || !image.tiles || !image.tiles->failed()) return ok_status();
   return make_error(ErrorCode::kParse, image.tiles->error());
 }

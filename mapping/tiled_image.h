@@ -89,7 +89,8 @@ std::size_t tile_cache_bytes_per_thread();
 bool read_rows(const ImageView& image, int y0, int y1, float* rgba);
 
 // After a pass over `image`: kParse with the source's message (naming the
-// file) when a tiled image's reads failed, else ok. In-memory views: ok.
+// file) when a tiled image's reads failed, its own or those of its MIP
+// levels (ImageView::mip_levels), else ok. In-memory views: ok.
 Status check_texels_read(const ImageView& image);
 
 namespace detail {

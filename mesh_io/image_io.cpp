@@ -193,8 +193,8 @@ std::vector<std::pair<int, int>> mip_chain(OIIO::ImageInput& in) {
     sizes.emplace_back(w, h);
   }
   if (w > 1 || h > 1) sizes.clear();  // the chain stops short of 1 x 1
-  in.seek_subimage(0, 0);
   (void)in.geterror();  // a failed seek past the last level is not an error
+  if (!in.seek_subimage(0, 0)) sizes.clear();  // read_image then fails on level 0
   return sizes;
 }
 
@@ -407,6 +407,12 @@ bool goes_through_cache(const OIIO::ImageSpec& spec, const ImageReadOptions& opt
   return bytes > static_cast<double>(options.cache_mb) * (1 << 20);
 }
 
+// Whether the file's MIP levels are worth reading for an image read as
+// `img` (ImageReadOptions::linear_working).
+bool wants_levels(const ImageReadOptions& options, const Image& img) {
+  return !(options.linear_working && img.color_space == ColorSpace::kSrgb);
+}
+
 Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
                             const std::string& format, long long stored_bytes,
                             const ImageReadOptions& options,
@@ -450,11 +456,13 @@ Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
     return img;
   };
   Expected<Image> img = open_level(0);
-  if (!img || mip_sizes.empty()) return img;
+  if (!img || mip_sizes.empty() || !wants_levels(options, *img)) return img;
   auto mip = std::make_shared<Image::MipLevels>();
   for (std::size_t i = 0; i < mip_sizes.size(); ++i) {
     Expected<Image> level = open_level(static_cast<int>(i) + 1);
     if (!level) return level.error();
+    // The cache's view of the file, checked against the reader's chain.
+    if (level->width != mip_sizes[i].first || level->height != mip_sizes[i].second) return img;
     level->color_space = img->color_space;
     mip->levels.push_back(std::move(*level));
   }
@@ -482,6 +490,10 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
       ec ? std::numeric_limits<long long>::max() : static_cast<long long>(size);
   const std::vector<std::pair<int, int>> mip_sizes =
       options.mip_levels ? mip_chain(*in) : std::vector<std::pair<int, int>>{};
+  if (in->current_subimage() != 0 || in->current_miplevel() != 0) {
+    return image_error(ErrorCode::kParse, path,
+                       "cannot read as an image: " + first_line(in->geterror()));
+  }
   if (goes_through_cache(in->spec(), options)) {
     const OIIO::ImageSpec spec = in->spec();
     const std::string format = in->format_name();
@@ -489,14 +501,14 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
     return open_cached(path, spec, format, stored, options, mip_sizes);
   }
   Expected<Image> img = decode_image(in.get(), path, stored, options);
-  if (!img || mip_sizes.empty()) return img;
-  // A MIP-mapped file: its levels are decoded too, as level 0 is.
+  if (!img || mip_sizes.empty() || !wants_levels(options, *img)) return img;
+  // A MIP-mapped file: its levels are decoded too, as level 0 is (their
+  // non-finite values are not counted: the warning is about the image).
   auto mip = std::make_shared<Image::MipLevels>();
   for (std::size_t i = 0; i < mip_sizes.size(); ++i) {
     Expected<Image> level = decode_image(in.get(), path, stored, options, static_cast<int>(i) + 1);
     if (!level) return level.error();
     level->color_space = img->color_space;
-    img->nonfinite_values += level->nonfinite_values;
     mip->levels.push_back(std::move(*level));
   }
   for (const Image& level : mip->levels) mip->views.push_back(level.view());
@@ -516,7 +528,7 @@ Expected<Image> read_image_from_memory(std::span<const unsigned char> bytes,
   }
   // OIIO 2.4: an ImageInput reads from a Filesystem::IOMemReader instead of
   // a file; the name's extension picks the format. The proxy outlives `in`
-  // (decode_image closes it).
+  // (declared first, destroyed last).
   OIIO::Filesystem::IOMemReader proxy(const_cast<unsigned char*>(bytes.data()), bytes.size());
   OIIO::ImageSpec config = read_config();
   // OIIO 2.4's readers take the proxy from the configuration hint

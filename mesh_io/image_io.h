@@ -137,6 +137,10 @@ struct ImageReadOptions {
   // Read a MIP-mapped file's levels above the full size too (Image::mip;
   // for --filter ewa), in memory or through the cache as level 0 is.
   bool mip_levels = false;
+  // The caller works in linear light (--linear): the levels of a texture
+  // read as sRGB-encoded average encoded values and would not be used
+  // (the bake builds linear-light ones), so they are not read.
+  bool linear_working = false;
 };
 
 // The default budget of --cache-mb.

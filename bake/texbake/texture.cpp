@@ -13,6 +13,7 @@ ImageReadOptions texture_read_options(TextureColorSpace color_space, std::size_t
   o.cache_mb = cache_mb;
   o.memory_copies = 1 + (linear ? 1.0 : 0.0) + (ewa ? 1.0 / 3 : 0.0);
   o.mip_levels = ewa;
+  o.linear_working = linear;
   return o;
 }
 

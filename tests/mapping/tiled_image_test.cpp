@@ -227,5 +227,31 @@ TEST(TiledImage, AFailedReadGivesZerosAndTheSourcesErrorAfterThePass) {
   EXPECT_TRUE(check_texels_read(p.memory).has_value());
 }
 
+// A MIP-mapped file read through the cache has a source per level: a tile
+// lost in a level above 0 fails the pass too (with that level's error),
+// even when level 0 read well.
+TEST(TiledImage, AFailedReadInAMipLevelFailsThePass) {
+  Pair base = make_pair(200, 64, 10);
+  Pair l1 = make_pair(100, 32, 11), l2 = make_pair(50, 16, 12);
+  l2.tiles->bad_tile_x = 1;
+  const ImageView levels[] = {l1.tiled, l2.tiled};
+  ImageView view = base.tiled;
+  view.mip_levels = levels;
+  view.mip_level_count = 2;
+  (void)view.texel(5, 5);
+  (void)levels[0].texel(5, 5);
+  EXPECT_TRUE(check_texels_read(view).has_value());  // nothing failed yet
+  EXPECT_TRUE(same_bits(levels[1].texel(TileSource::kTileSize + 1, 3), Rgba{0, 0, 0, 0}));
+  const Status s = check_texels_read(view);
+  ASSERT_FALSE(s.has_value());
+  EXPECT_EQ(s.error().code, ErrorCode::kParse);
+  EXPECT_EQ(s.error().message, "tiles.tif: cannot decode (truncated or corrupt?): tile 1");
+  // An in-memory level 0 with a failed tiled level fails as well.
+  ImageView memory = base.memory;
+  memory.mip_levels = levels;
+  memory.mip_level_count = 2;
+  EXPECT_FALSE(check_texels_read(memory).has_value());
+}
+
 }  // namespace
 }  // namespace texbake

@@ -303,6 +303,21 @@ TEST_F(ImageCacheFiles, MipLevelsOfAMipMappedFileAreReadInMemoryAndThroughTheCac
   ASSERT_TRUE(plain);
   EXPECT_FALSE(plain->mip);
   EXPECT_EQ(plain->view().mip_level_count, 0);
+  // Working in linear light (--linear), an 8-bit (sRGB) file's levels are
+  // not read either, both ways; a file read as linear keeps them.
+  for (ImageReadOptions o : {memory, cached}) {
+    o.linear_working = true;
+    Expected<Image> srgb = read_image(path, o);
+    ASSERT_TRUE(srgb) << srgb.error().message;
+    EXPECT_EQ(srgb->color_space, ColorSpace::kSrgb);
+    EXPECT_FALSE(srgb->mip);
+    o.color_space = TextureColorSpace::kLinear;
+    Expected<Image> linear = read_image(path, o);
+    ASSERT_TRUE(linear) << linear.error().message;
+    ASSERT_TRUE(linear->mip);
+    EXPECT_EQ(linear->mip->levels.size(), sizes.size() - 1);
+    EXPECT_EQ(linear->mip->levels[0].color_space, ColorSpace::kLinear);
+  }
 }
 
 TEST_F(ImageCacheFiles, MipLevelsThatAreNotTheHalvingChainAreNotUsed) {
