@@ -157,7 +157,7 @@ void BM_FilterQualityAtlas(benchmark::State& state) {
   }
   state.counters["psnr_db"] = db;
   state.counters["bake_s"] = seconds / static_cast<double>(state.iterations());
-  const char* names[] = {"bilinear x1", "bilinear x4", "bilinear x16", "bilinear x64",
+  const char* names[] = {"bilinear x1", "bilinear x4", "bilinear x16",           "bilinear x64",
                          "ewa x1",      "ewa x4",      "ewa x1 mip-mapped input"};
   state.SetLabel(names[method]);
 }
@@ -191,7 +191,7 @@ void BM_FilterQualityVertex(benchmark::State& state) {
   std::vector<Rgba>& ref = references[width];
   if (ref.empty()) ref = bake_vertex_or_die(width, VertexFilter::kArea, 256).colors;
   const VertexFilter filters[] = {VertexFilter::kBilinear, VertexFilter::kArea, VertexFilter::kArea,
-                                  VertexFilter::kArea, VertexFilter::kEwa, VertexFilter::kEwa};
+                                  VertexFilter::kArea,     VertexFilter::kEwa,  VertexFilter::kEwa};
   const int samples[] = {1, 4, 16, 64, 1, 1};
   if (method == 5) zone_plate_with_levels(width);  // made before the clock starts
   double seconds = 0, db = 0;
@@ -204,8 +204,8 @@ void BM_FilterQualityVertex(benchmark::State& state) {
   }
   state.counters["psnr_db"] = db;
   state.counters["bake_s"] = seconds / static_cast<double>(state.iterations());
-  const char* names[] = {"bilinear", "area x4", "area x16", "area x64", "ewa",
-                         "ewa mip-mapped input"};
+  const char* names[] = {"bilinear", "area x4", "area x16",
+                         "area x64", "ewa",     "ewa mip-mapped input"};
   state.SetLabel(names[method]);
 }
 BENCHMARK(BM_FilterQualityVertex)

@@ -114,9 +114,9 @@ class MipPyramid {
   };
   void compute_row_mean(int i, int y) const;
 
-  std::vector<std::vector<float>> owned_;              // levels 1 .. (when reduced here)
-  std::vector<ImageView> views_;                       // levels 0 ..
-  std::vector<std::unique_ptr<RowMeans>> row_means_;   // levels 0 ..
+  std::vector<std::vector<float>> owned_;             // levels 1 .. (when reduced here)
+  std::vector<ImageView> views_;                      // levels 0 ..
+  std::vector<std::unique_ptr<RowMeans>> row_means_;  // levels 0 ..
 };
 
 // A lookup's footprint: two vectors in (u, v) units (each (du, dv)).

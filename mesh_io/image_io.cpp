@@ -192,8 +192,8 @@ std::vector<std::pair<int, int>> mip_chain(OIIO::ImageInput& in) {
     }
     sizes.emplace_back(w, h);
   }
-  if (w > 1 || h > 1) sizes.clear();  // the chain stops short of 1 x 1
-  (void)in.geterror();  // a failed seek past the last level is not an error
+  if (w > 1 || h > 1) sizes.clear();           // the chain stops short of 1 x 1
+  (void)in.geterror();                         // a failed seek past the last level is not an error
   if (!in.seek_subimage(0, 0)) sizes.clear();  // read_image then fails on level 0
   return sizes;
 }
@@ -203,9 +203,9 @@ std::vector<std::pair<int, int>> mip_chain(OIIO::ImageInput& in) {
 Expected<Image> decode_image(OIIO::ImageInput* in, const fs::path& path, long long stored_bytes,
                              const ImageReadOptions& options, int miplevel = 0) {
   if (!in->seek_subimage(0, miplevel)) {
-    return image_error(ErrorCode::kParse, path,
-                       "cannot read MIP level " + std::to_string(miplevel) + ": " +
-                           first_line(in->geterror()));
+    return image_error(
+        ErrorCode::kParse, path,
+        "cannot read MIP level " + std::to_string(miplevel) + ": " + first_line(in->geterror()));
   }
   const OIIO::ImageSpec spec = in->spec();
   const long long w = spec.width, h = spec.height;
@@ -413,6 +413,26 @@ bool wants_levels(const ImageReadOptions& options, const Image& img) {
   return !(options.linear_working && img.color_space == ColorSpace::kSrgb);
 }
 
+// Levels 1 .. of `img`'s file, read by read_level(level) (decoded or
+// through the cache) into img.mip, in img's encoding. A level whose size is
+// not the chain's leaves img without levels; a level that cannot be read is
+// the error.
+template <class ReadLevel>
+Status attach_levels(Image& img, const std::vector<std::pair<int, int>>& sizes,
+                     ReadLevel&& read_level) {
+  auto mip = std::make_shared<Image::MipLevels>();
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    Expected<Image> level = read_level(static_cast<int>(i) + 1);
+    if (!level) return level.error();
+    if (level->width != sizes[i].first || level->height != sizes[i].second) return ok_status();
+    level->color_space = img.color_space;
+    mip->levels.push_back(std::move(*level));
+  }
+  for (const Image& level : mip->levels) mip->views.push_back(level.view());
+  img.mip = std::move(mip);
+  return ok_status();
+}
+
 Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
                             const std::string& format, long long stored_bytes,
                             const ImageReadOptions& options,
@@ -457,17 +477,8 @@ Expected<Image> open_cached(const fs::path& path, const OIIO::ImageSpec& header,
   };
   Expected<Image> img = open_level(0);
   if (!img || mip_sizes.empty() || !wants_levels(options, *img)) return img;
-  auto mip = std::make_shared<Image::MipLevels>();
-  for (std::size_t i = 0; i < mip_sizes.size(); ++i) {
-    Expected<Image> level = open_level(static_cast<int>(i) + 1);
-    if (!level) return level.error();
-    // The cache's view of the file, checked against the reader's chain.
-    if (level->width != mip_sizes[i].first || level->height != mip_sizes[i].second) return img;
-    level->color_space = img->color_space;
-    mip->levels.push_back(std::move(*level));
-  }
-  for (const Image& level : mip->levels) mip->views.push_back(level.view());
-  img->mip = std::move(mip);
+  // The cache's view of the file is checked against the reader's chain.
+  if (Status s = attach_levels(*img, mip_sizes, open_level); !s) return s.error();
   return img;
 }
 
@@ -504,15 +515,12 @@ Expected<Image> read_image(const fs::path& path, const ImageReadOptions& options
   if (!img || mip_sizes.empty() || !wants_levels(options, *img)) return img;
   // A MIP-mapped file: its levels are decoded too, as level 0 is (their
   // non-finite values are not counted: the warning is about the image).
-  auto mip = std::make_shared<Image::MipLevels>();
-  for (std::size_t i = 0; i < mip_sizes.size(); ++i) {
-    Expected<Image> level = decode_image(in.get(), path, stored, options, static_cast<int>(i) + 1);
-    if (!level) return level.error();
-    level->color_space = img->color_space;
-    mip->levels.push_back(std::move(*level));
+  if (Status s = attach_levels(
+          *img, mip_sizes,
+          [&](int level) { return decode_image(in.get(), path, stored, options, level); });
+      !s) {
+    return s.error();
   }
-  for (const Image& level : mip->levels) mip->views.push_back(level.view());
-  img->mip = std::move(mip);
   return img;
 }
 

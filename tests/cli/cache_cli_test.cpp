@@ -170,7 +170,8 @@ TEST_F(CacheCli, EwaReadsAMipMappedFilesOwnLevelsInMemoryAndThroughTheCache) {
   };
   const std::string memory = run(mip, "memory", "--report " + quoted(dir_ / "memory.json"));
   // 512 x 256 .. 1 x 1: ten levels, taken from the file.
-  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "memory.json"))["inputs"]["image"]["mip_levels"], 10);
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "memory.json"))["inputs"]["image"]["mip_levels"],
+            10);
   // Through the cache the levels are read from the file too (no pyramid
   // is built, so even 1 MiB is enough), with the same bytes.
   const std::string cached = run(mip, "cached", "--cache-mb 1");

@@ -65,7 +65,8 @@ TEST(MipPyramid, EvenLevelsByHand) {
 // (a constant 0.25 red over a 0 / 1 checkerboard whose mean is 0.5), so
 // every lookup that reaches them tells which pyramid it read.
 TEST(MipPyramid, GivenLevelsAreUsedAsTheyAre) {
-  const TestImage img = make_image(16, 8, [](int x, int y) { return static_cast<float>((x + y) % 2); });
+  const TestImage img =
+      make_image(16, 8, [](int x, int y) { return static_cast<float>((x + y) % 2); });
   std::vector<TestImage> given;
   for (int w = 8, h = 4; w >= 1; w /= 2, h = std::max(1, h / 2)) {
     given.push_back(make_image(w, h, [](int, int) { return 0.25f; }));

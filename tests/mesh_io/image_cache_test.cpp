@@ -329,10 +329,10 @@ TEST_F(ImageCacheFiles, MipLevelsThatAreNotTheHalvingChainAreNotUsed) {
     const fs::path path = dir / ("odd_" + std::to_string(sizes[1].first) + ".tif");
     write_mip_tiff(path, sizes);
     for (const ImageReadOptions& options : {o, [&] {
-           ImageReadOptions c = forced_cache();
-           c.mip_levels = true;
-           return c;
-         }()}) {
+                                              ImageReadOptions c = forced_cache();
+                                              c.mip_levels = true;
+                                              return c;
+                                            }()}) {
       Expected<Image> img = read_image(path, options);
       ASSERT_TRUE(img) << img.error().message;
       EXPECT_FALSE(img->mip) << path;
