@@ -191,32 +191,37 @@ MeshIssues triangulate_faces(MeshData& mesh) {
   mesh.triangle_corners.clear();
   mesh.triangle_face.clear();
   const std::size_t nf = mesh.face_count();
-  mesh.triangle_corners.reserve(
-      mesh.face_vertices.size() >= 2 * nf ? mesh.face_vertices.size() - 2 * nf : 0);
+  // n - 2 triangles per face of n >= 3 corners: an upper bound when every
+  // face has three or more.
+  const std::size_t expected =
+      mesh.face_vertices.size() >= 2 * nf ? mesh.face_vertices.size() - 2 * nf : 0;
+  mesh.triangles.reserve(expected);
+  mesh.triangle_corners.reserve(expected);
+  mesh.triangle_face.reserve(expected);
+  auto keep = [&](const std::array<uint32_t, 3>& t, std::size_t f) {
+    const uint32_t a = mesh.face_vertices[t[0]], b = mesh.face_vertices[t[1]],
+                   c = mesh.face_vertices[t[2]];
+    if (a == b || b == c || a == c ||
+        is_degenerate(mesh.positions[a], mesh.positions[b], mesh.positions[c])) {
+      ++issues.degenerate_triangles;
+      return;
+    }
+    mesh.triangles.push_back({a, b, c});
+    mesh.triangle_corners.push_back(t);
+    mesh.triangle_face.push_back(static_cast<uint32_t>(f));
+  };
   std::vector<std::array<uint32_t, 3>> scratch;
   for (std::size_t f = 0; f < nf; ++f) {
     const uint32_t first = mesh.face_offsets[f];
     const uint32_t n = mesh.face_offsets[f + 1] - first;
     if (n < 3) {  // a face of one or two corners has no area
       ++issues.degenerate_triangles;
-      continue;
-    }
-    scratch.clear();
-    if (n == 3)
-      scratch.push_back({first, first + 1, first + 2});
-    else
+    } else if (n == 3) {
+      keep({first, first + 1, first + 2}, f);
+    } else {
+      scratch.clear();
       triangulate_polygon(mesh, first, n, scratch);
-    for (const auto& t : scratch) {
-      const uint32_t a = mesh.face_vertices[t[0]], b = mesh.face_vertices[t[1]],
-                     c = mesh.face_vertices[t[2]];
-      if (a == b || b == c || a == c ||
-          is_degenerate(mesh.positions[a], mesh.positions[b], mesh.positions[c])) {
-        ++issues.degenerate_triangles;
-        continue;
-      }
-      mesh.triangles.push_back({a, b, c});
-      mesh.triangle_corners.push_back(t);
-      mesh.triangle_face.push_back(static_cast<uint32_t>(f));
+      for (const auto& t : scratch) keep(t, f);
     }
   }
   std::vector<char> used(mesh.vertex_count(), 0);

@@ -183,27 +183,145 @@ int aggregate(const LaplaceMatrix& a, std::vector<int>& aggregate_of) {
   return count;
 }
 
+// The two ways build_rows below sums a row. Both add a row's terms in the
+// order given and flush its non-zero sums in ascending column order.
+//
+// DenseRow: an accumulator over all columns and the list of columns touched,
+// for products whose rows gather many terms into a narrow matrix. Its arrays
+// are per thread and kept between calls (flush leaves them zero): sized per
+// block instead, they cost blocks x columns to clear, quadratic in the mesh.
+class DenseRow {
+ public:
+  explicit DenseRow(Index cols) : s_(scratch()) {
+    for (int c : s_.touched) s_.sum[c] = 0.0, s_.seen[c] = 0;  // left by an exception
+    s_.touched.clear();
+    if (s_.sum.size() < static_cast<std::size_t>(cols)) {
+      s_.sum.resize(static_cast<std::size_t>(cols), 0.0);
+      s_.seen.resize(static_cast<std::size_t>(cols), 0);
+    }
+  }
+  void add(int col, double v) {
+    if (!s_.seen[col]) s_.seen[col] = 1, s_.touched.push_back(col);
+    s_.sum[col] += v;
+  }
+  // Appends the row's non-zero entries to columns/values and clears it.
+  void flush(std::vector<int>& columns, std::vector<double>& values) {
+    std::sort(s_.touched.begin(), s_.touched.end());
+    for (int c : s_.touched) {
+      if (s_.sum[c] != 0.0) columns.push_back(c), values.push_back(s_.sum[c]);
+      s_.sum[c] = 0.0, s_.seen[c] = 0;
+    }
+    s_.touched.clear();
+  }
+
+ private:
+  struct Scratch {
+    std::vector<double> sum;
+    std::vector<uint8_t> seen;
+    std::vector<int> touched;
+  };
+  static Scratch& scratch() {
+    thread_local Scratch s;
+    return s;
+  }
+  Scratch& s_;
+};
+
+// SortedRow: the terms listed, then sorted by column (stable: repeats are
+// summed in the order given) and merged, for rows of a few terms in a wide
+// matrix, where a dense accumulator per block would cost more to clear than
+// the row.
+class SortedRow {
+ public:
+  explicit SortedRow(Index) {}
+  void add(int col, double v) { terms_.emplace_back(col, v); }
+  void flush(std::vector<int>& columns, std::vector<double>& values) {
+    std::stable_sort(terms_.begin(), terms_.end(),
+                     [](const auto& p, const auto& q) { return p.first < q.first; });
+    for (std::size_t k = 0; k < terms_.size();) {
+      const int c = terms_[k].first;
+      double sum = 0;
+      for (; k < terms_.size() && terms_[k].first == c; ++k) sum += terms_[k].second;
+      if (sum != 0.0) columns.push_back(c), values.push_back(sum);
+    }
+    terms_.clear();
+  }
+
+ private:
+  std::vector<std::pair<int, double>> terms_;
+};
+
+// A rows x cols matrix in compressed rows whose row i is summed by
+// fn(i, row) into a Row (DenseRow or SortedRow), exact zeros dropped. Fixed blocks of rows are
+// summed in parallel into their own lists, then copied into place: each row's terms are added in
+// the order fn gives them, so the matrix does not depend on the thread count.
+//
+// Hand-written rather than Eigen's sparse product: that runs on one thread
+// and was most of the hierarchy's set-up time.
+template <class Row, class RowFn>
+LaplaceMatrix build_rows(Index rows, Index cols, RowFn&& fn) {
+  const std::size_t blocks = static_cast<std::size_t>(block_count(rows));
+  std::vector<std::vector<int>> block_columns(blocks);
+  std::vector<std::vector<double>> block_values(blocks);
+  std::vector<int> row_start(static_cast<std::size_t>(rows) + 1, 0);
+  parallel_for_blocks(static_cast<std::size_t>(rows), static_cast<std::size_t>(kBlockRows),
+                      [&](std::size_t block, std::size_t begin, std::size_t end) {
+                        Row row(cols);
+                        auto& columns = block_columns[block];
+                        auto& values = block_values[block];
+                        for (std::size_t i = begin; i < end; ++i) {
+                          const std::size_t before = columns.size();
+                          fn(static_cast<Index>(i), row);
+                          row.flush(columns, values);
+                          row_start[i + 1] = static_cast<int>(columns.size() - before);
+                        }
+                      });
+  for (Index i = 0; i < rows; ++i) row_start[i + 1] += row_start[i];
+  LaplaceMatrix m(rows, cols);
+  m.resizeNonZeros(row_start.back());
+  std::copy(row_start.begin(), row_start.end(), m.outerIndexPtr());
+  parallel_for_chunks(blocks, 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t k = b; k < e; ++k) {
+      const int at = row_start[k * static_cast<std::size_t>(kBlockRows)];
+      std::copy(block_columns[k].begin(), block_columns[k].end(), m.innerIndexPtr() + at);
+      std::copy(block_values[k].begin(), block_values[k].end(), m.valuePtr() + at);
+    }
+  });
+  return m;
+}
+
+// x * y (Gustavson's row-by-row product), in parallel.
+LaplaceMatrix multiply_sparse(const LaplaceMatrix& x, const LaplaceMatrix& y) {
+  return build_rows<DenseRow>(x.rows(), y.cols(), [&](Index i, DenseRow& row) {
+    for (LaplaceMatrix::InnerIterator xi(x, i); xi; ++xi) {
+      for (LaplaceMatrix::InnerIterator yk(y, xi.col()); yk; ++yk) {
+        row.add(static_cast<int>(yk.col()), xi.value() * yk.value());
+      }
+    }
+  });
+}
+
 // The smoothed prolongation (I - D^-1 omega a) P_tent of the aggregation.
+// P_tent has a single 1 per row, at the row's aggregate, so row i of the
+// product is 1 at agg(i) minus jacobi_i times, per aggregate J, the sum of
+// a_ij over the j of J.
 LaplaceMatrix smoothed_prolongation(const LaplaceMatrix& a, const Eigen::VectorXd& jacobi,
                                     const std::vector<int>& aggregate_of, int coarse) {
-  const Index n = a.rows();
-  LaplaceMatrix tentative(n, coarse);
-  tentative.reserve(Eigen::VectorXi::Constant(n, 1));
-  for (Index i = 0; i < n; ++i) tentative.insert(i, aggregate_of[i]) = 1.0;
-  tentative.makeCompressed();
-  LaplaceMatrix smoothing = jacobi.asDiagonal() * a;
-  LaplaceMatrix p = tentative - LaplaceMatrix(smoothing * tentative);
-  p.prune(0.0);
-  p.makeCompressed();
-  return p;
+  return build_rows<DenseRow>(a.rows(), coarse, [&](Index i, DenseRow& row) {
+    row.add(aggregate_of[i], 1.0);
+    for (LaplaceMatrix::InnerIterator it(a, i); it; ++it) {
+      row.add(aggregate_of[it.col()], -jacobi[i] * it.value());
+    }
+  });
 }
 
 class Hierarchy {
  public:
-  Status build(const LaplaceMatrix& a) {
+  // Takes the finest matrix over: finest() is it, for the caller's CG.
+  Status build(LaplaceMatrix a) {
     levels_.clear();
     levels_.emplace_back();
-    levels_.back().a = a;
+    levels_.back().a = std::move(a);
     while (static_cast<int>(levels_.size()) < kMaxLevels &&
            levels_.back().a.rows() > kCoarsestRows) {
       Level& fine = levels_.back();
@@ -213,10 +331,8 @@ class Hierarchy {
       if (coarse >= fine.a.rows() * 9 / 10) break;  // coarsening stalled: solve here
       fine.p = smoothed_prolongation(fine.a, fine.jacobi, aggregate_of, coarse);
       fine.r = fine.p.transpose();
-      LaplaceMatrix ap = fine.a * fine.p;
-      LaplaceMatrix coarse_a = fine.r * ap;
-      coarse_a.prune(0.0);
-      coarse_a.makeCompressed();
+      const LaplaceMatrix ap = multiply_sparse(fine.a, fine.p);
+      LaplaceMatrix coarse_a = multiply_sparse(fine.r, ap);
       levels_.emplace_back();
       levels_.back().a = std::move(coarse_a);
     }
@@ -231,6 +347,7 @@ class Hierarchy {
   }
 
   int levels() const { return static_cast<int>(levels_.size()); }
+  const LaplaceMatrix& finest() const { return levels_[0].a; }
 
   // z = M r: one symmetric V-cycle (the same number of damped Jacobi sweeps
   // before and after, so M is symmetric positive definite, as CG needs).
@@ -296,33 +413,21 @@ LaplaceMatrix reordered(const LaplaceMatrix& a, const std::vector<int>& order) {
   const Index n = a.rows();
   std::vector<int> new_of(static_cast<std::size_t>(n));
   for (Index r = 0; r < n; ++r) new_of[order[r]] = static_cast<int>(r);
-  Eigen::VectorXi sizes(n);
-  for (Index r = 0; r < n; ++r) {
-    sizes[r] = a.outerIndexPtr()[order[r] + 1] - a.outerIndexPtr()[order[r]];
-  }
-  LaplaceMatrix out(n, n);
-  out.reserve(sizes);
-  std::vector<std::pair<int, double>> row;
-  for (Index r = 0; r < n; ++r) {
-    row.clear();
+  return build_rows<SortedRow>(n, n, [&](Index r, SortedRow& row) {
     for (LaplaceMatrix::InnerIterator it(a, order[r]); it; ++it) {
-      row.emplace_back(new_of[it.col()], it.value());
+      row.add(new_of[it.col()], it.value());
     }
-    std::sort(row.begin(), row.end(),
-              [](const auto& p, const auto& q) { return p.first < q.first; });
-    for (const auto& [c, v] : row) out.insert(r, c) = v;
-  }
-  out.makeCompressed();
-  return out;
+  });
 }
 
-Expected<MultigridStats> solve_ordered(const LaplaceMatrix& a, const ColorColumns& b,
+Expected<MultigridStats> solve_ordered(LaplaceMatrix ordered, const ColorColumns& b,
                                        ColorColumns& x, double relative_tolerance,
                                        int max_iterations) {
-  const Index n = a.rows();
+  const Index n = ordered.rows();
   MultigridStats stats;
   Hierarchy hierarchy;
-  if (Status built = hierarchy.build(a); !built) return built.error();
+  if (Status built = hierarchy.build(std::move(ordered)); !built) return built.error();
+  const LaplaceMatrix& a = hierarchy.finest();
   stats.levels = hierarchy.levels();
 
   Columns4 limit{}, b_norm2 = column_dots(b, b);

@@ -84,12 +84,19 @@ LaplaceMatrix component_matrix(const Coupling* couplings_begin, const Coupling* 
                           kept[i] = out - start[i];
                         }
                       });
+  // The kept entries, written straight into the compressed arrays.
   LaplaceMatrix m(size, size);
-  m.reserve(Eigen::Map<const Eigen::VectorXi>(kept.data(), size));
-  for (Eigen::Index i = 0; i < size; ++i) {
-    for (int k = start[i]; k < start[i] + kept[i]; ++k) m.insert(i, column[k]) = value[k];
-  }
-  m.makeCompressed();
+  int* outer = m.outerIndexPtr();
+  outer[0] = 0;
+  for (Eigen::Index i = 0; i < size; ++i) outer[i + 1] = outer[i] + kept[i];
+  m.resizeNonZeros(outer[size]);
+  parallel_for_chunks(
+      static_cast<std::size_t>(size), 4096, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+          std::copy_n(column.begin() + start[i], kept[i], m.innerIndexPtr() + outer[i]);
+          std::copy_n(value.begin() + start[i], kept[i], m.valuePtr() + outer[i]);
+        }
+      });
   return m;
 }
 
