@@ -183,13 +183,12 @@ int aggregate(const LaplaceMatrix& a, std::vector<int>& aggregate_of) {
   return count;
 }
 
-// The two ways build_rows below sums a row. Both add a row's terms in the
-// order given and flush its non-zero sums in ascending column order.
-//
-// DenseRow: an accumulator over all columns and the list of columns touched,
-// for products whose rows gather many terms into a narrow matrix. Its arrays
-// are per thread and kept between calls (flush leaves them zero): sized per
-// block instead, they cost blocks x columns to clear, quadratic in the mesh.
+// One row of a sparse product being summed (build_rows below): a dense
+// accumulator over all columns and the list of columns touched. Terms are
+// added in the order given; flush emits the non-zero sums in ascending
+// column order. Its arrays are per thread and kept between calls (flush
+// leaves them zero): sized per block instead, they would cost blocks x
+// columns to clear, quadratic in the mesh.
 class DenseRow {
  public:
   explicit DenseRow(Index cols) : s_(scratch()) {
@@ -227,38 +226,15 @@ class DenseRow {
   Scratch& s_;
 };
 
-// SortedRow: the terms listed, then sorted by column (stable: repeats are
-// summed in the order given) and merged, for rows of a few terms in a wide
-// matrix, where a dense accumulator per block would cost more to clear than
-// the row.
-class SortedRow {
- public:
-  explicit SortedRow(Index) {}
-  void add(int col, double v) { terms_.emplace_back(col, v); }
-  void flush(std::vector<int>& columns, std::vector<double>& values) {
-    std::stable_sort(terms_.begin(), terms_.end(),
-                     [](const auto& p, const auto& q) { return p.first < q.first; });
-    for (std::size_t k = 0; k < terms_.size();) {
-      const int c = terms_[k].first;
-      double sum = 0;
-      for (; k < terms_.size() && terms_[k].first == c; ++k) sum += terms_[k].second;
-      if (sum != 0.0) columns.push_back(c), values.push_back(sum);
-    }
-    terms_.clear();
-  }
-
- private:
-  std::vector<std::pair<int, double>> terms_;
-};
-
 // A rows x cols matrix in compressed rows whose row i is summed by
-// fn(i, row) into a Row (DenseRow or SortedRow), exact zeros dropped. Fixed blocks of rows are
-// summed in parallel into their own lists, then copied into place: each row's terms are added in
-// the order fn gives them, so the matrix does not depend on the thread count.
+// fn(i, row) into a DenseRow, exact zeros dropped. Fixed blocks of rows are
+// summed in parallel into their own lists, then copied into place. Each
+// row's terms are added in the order fn gives them, so the matrix does not
+// depend on the thread count.
 //
 // Hand-written rather than Eigen's sparse product: that runs on one thread
 // and was most of the hierarchy's set-up time.
-template <class Row, class RowFn>
+template <class RowFn>
 LaplaceMatrix build_rows(Index rows, Index cols, RowFn&& fn) {
   const std::size_t blocks = static_cast<std::size_t>(block_count(rows));
   std::vector<std::vector<int>> block_columns(blocks);
@@ -266,7 +242,7 @@ LaplaceMatrix build_rows(Index rows, Index cols, RowFn&& fn) {
   std::vector<int> row_start(static_cast<std::size_t>(rows) + 1, 0);
   parallel_for_blocks(static_cast<std::size_t>(rows), static_cast<std::size_t>(kBlockRows),
                       [&](std::size_t block, std::size_t begin, std::size_t end) {
-                        Row row(cols);
+                        DenseRow row(cols);
                         auto& columns = block_columns[block];
                         auto& values = block_values[block];
                         for (std::size_t i = begin; i < end; ++i) {
@@ -292,7 +268,7 @@ LaplaceMatrix build_rows(Index rows, Index cols, RowFn&& fn) {
 
 // x * y (Gustavson's row-by-row product), in parallel.
 LaplaceMatrix multiply_sparse(const LaplaceMatrix& x, const LaplaceMatrix& y) {
-  return build_rows<DenseRow>(x.rows(), y.cols(), [&](Index i, DenseRow& row) {
+  return build_rows(x.rows(), y.cols(), [&](Index i, DenseRow& row) {
     for (LaplaceMatrix::InnerIterator xi(x, i); xi; ++xi) {
       for (LaplaceMatrix::InnerIterator yk(y, xi.col()); yk; ++yk) {
         row.add(static_cast<int>(yk.col()), xi.value() * yk.value());
@@ -307,7 +283,7 @@ LaplaceMatrix multiply_sparse(const LaplaceMatrix& x, const LaplaceMatrix& y) {
 // a_ij over the j of J.
 LaplaceMatrix smoothed_prolongation(const LaplaceMatrix& a, const Eigen::VectorXd& jacobi,
                                     const std::vector<int>& aggregate_of, int coarse) {
-  return build_rows<DenseRow>(a.rows(), coarse, [&](Index i, DenseRow& row) {
+  return build_rows(a.rows(), coarse, [&](Index i, DenseRow& row) {
     row.add(aggregate_of[i], 1.0);
     for (LaplaceMatrix::InnerIterator it(a, i); it; ++it) {
       row.add(aggregate_of[it.col()], -jacobi[i] * it.value());
@@ -317,11 +293,15 @@ LaplaceMatrix smoothed_prolongation(const LaplaceMatrix& a, const Eigen::VectorX
 
 class Hierarchy {
  public:
-  // Takes the finest matrix over: finest() is it, for the caller's CG.
-  Status build(LaplaceMatrix a) {
+  // Takes the finest matrix over (finest() is it, for the caller's CG).
+  // Eigen 3.4's SparseMatrix has no move constructor or assignment: a
+  // std::move copies it. Matrices are handed over with swap, and the levels
+  // are reserved so that no vector growth copies them either.
+  Status build(LaplaceMatrix&& a) {
     levels_.clear();
+    levels_.reserve(kMaxLevels);
     levels_.emplace_back();
-    levels_.back().a = std::move(a);
+    levels_.back().a.swap(a);
     while (static_cast<int>(levels_.size()) < kMaxLevels &&
            levels_.back().a.rows() > kCoarsestRows) {
       Level& fine = levels_.back();
@@ -334,7 +314,7 @@ class Hierarchy {
       const LaplaceMatrix ap = multiply_sparse(fine.a, fine.p);
       LaplaceMatrix coarse_a = multiply_sparse(fine.r, ap);
       levels_.emplace_back();
-      levels_.back().a = std::move(coarse_a);
+      levels_.back().a.swap(coarse_a);
     }
     levels_.back().p = {};
     levels_.back().r = {};
@@ -408,19 +388,39 @@ std::vector<int> breadth_first_order(const LaplaceMatrix& a) {
   return order;
 }
 
-// a with rows and columns renumbered: new row r is old row order[r].
+// a with rows and columns renumbered: new row r is old row order[r]. Each
+// new row is old row order[r]'s entries renumbered and sorted by column,
+// written in parallel straight into the compressed arrays (the sizes are
+// known up front).
 LaplaceMatrix reordered(const LaplaceMatrix& a, const std::vector<int>& order) {
   const Index n = a.rows();
   std::vector<int> new_of(static_cast<std::size_t>(n));
   for (Index r = 0; r < n; ++r) new_of[order[r]] = static_cast<int>(r);
-  return build_rows<SortedRow>(n, n, [&](Index r, SortedRow& row) {
-    for (LaplaceMatrix::InnerIterator it(a, order[r]); it; ++it) {
-      row.add(new_of[it.col()], it.value());
+  const int* a_outer = a.outerIndexPtr();
+  LaplaceMatrix out(n, n);
+  int* outer = out.outerIndexPtr();
+  outer[0] = 0;
+  for (Index r = 0; r < n; ++r) outer[r + 1] = outer[r] + a_outer[order[r] + 1] - a_outer[order[r]];
+  out.resizeNonZeros(outer[n]);
+  for_row_blocks(n, [&](Index begin, Index end) {
+    std::vector<std::pair<int, double>> row;
+    for (Index r = begin; r < end; ++r) {
+      row.clear();
+      for (int k = a_outer[order[r]]; k < a_outer[order[r] + 1]; ++k) {
+        row.emplace_back(new_of[a.innerIndexPtr()[k]], a.valuePtr()[k]);
+      }
+      std::sort(row.begin(), row.end(),
+                [](const auto& p, const auto& q) { return p.first < q.first; });
+      for (std::size_t k = 0; k < row.size(); ++k) {
+        out.innerIndexPtr()[outer[r] + k] = row[k].first;
+        out.valuePtr()[outer[r] + k] = row[k].second;
+      }
     }
   });
+  return out;
 }
 
-Expected<MultigridStats> solve_ordered(LaplaceMatrix ordered, const ColorColumns& b,
+Expected<MultigridStats> solve_ordered(LaplaceMatrix&& ordered, const ColorColumns& b,
                                        ColorColumns& x, double relative_tolerance,
                                        int max_iterations) {
   const Index n = ordered.rows();
@@ -510,8 +510,9 @@ Expected<MultigridStats> solve_laplace_multigrid(const LaplaceMatrix& a, const C
   const std::vector<int> order = breadth_first_order(a);
   ColorColumns ob(n, 4), ox(n, 4);
   for (Index r = 0; r < n; ++r) ob.row(r) = b.row(order[r]), ox.row(r) = x.row(order[r]);
+  LaplaceMatrix ordered = reordered(a, order);
   Expected<MultigridStats> stats =
-      solve_ordered(reordered(a, order), ob, ox, relative_tolerance, max_iterations);
+      solve_ordered(std::move(ordered), ob, ox, relative_tolerance, max_iterations);
   if (stats) {
     for (Index r = 0; r < n; ++r) x.row(order[r]) = ox.row(r);
   }
