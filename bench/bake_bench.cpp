@@ -12,6 +12,7 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -155,6 +156,44 @@ BENCHMARK(BM_Fill)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(1);
+
+// ---- Embree build quality for one-shot scenes: build + one ray per vertex. ----
+// What a per-vertex bake does with its scene: build it, trace each vertex's
+// visibility ray to the bench's sphere proxy once, free it. Arguments:
+// subdivision rounds (2: 832k, 4: 13.3M triangles), quality (0 low, 1 medium).
+void BM_SceneQuality(benchmark::State& state) {
+  const FillCase& c = fill_case(state.range(0));
+  const Proxy proxy = sphere_around(c.mesh);
+  std::vector<Vec3> points, dirs;
+  for (const Float3& p : c.mesh.positions) {
+    points.push_back({p.x, p.y, p.z});
+    dirs.push_back(inverse_map(proxy, points.back()).to_projector);
+  }
+  const BuildQuality quality = state.range(1) == 0 ? BuildQuality::kLow : BuildQuality::kMedium;
+  double build_s = 0, trace_s = 0;
+  std::size_t visible = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    Expected<EmbreeScene> scene = EmbreeScene::build(c.mesh, quality);
+    if (!scene) die(scene.error().message);
+    const auto t1 = std::chrono::steady_clock::now();
+    const std::vector<uint8_t> v = compute_visibility(*scene, points, dirs);
+    const auto t2 = std::chrono::steady_clock::now();
+    build_s += std::chrono::duration<double>(t1 - t0).count();
+    trace_s += std::chrono::duration<double>(t2 - t1).count();
+    visible = std::count(v.begin(), v.end(), 1);
+  }
+  state.counters["build_s"] = benchmark::Counter(build_s, benchmark::Counter::kAvgIterations);
+  state.counters["trace_s"] = benchmark::Counter(trace_s, benchmark::Counter::kAvgIterations);
+  state.counters["visible"] = static_cast<double>(visible);
+  state.SetLabel(state.range(1) == 0 ? "low" : "medium");
+}
+BENCHMARK(BM_SceneQuality)
+    ->ArgsProduct({{2, 4}, {0, 1}})
+    ->ArgNames({"rounds", "medium"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->Iterations(2);
 
 // ---- Visibility rays: ours vs raw Embree on the same rays and scene flags. ----
 

@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Helpers of bench/peers/run.sh (Debian /usr/bin/python3 with numpy).
 
-  peers_util.py mesh IN.off OUT.ply      midpoint-subdivide 1-to-4 twice (as
+  peers_util.py mesh IN.off OUT.ply [ROUNDS]
+                                         midpoint-subdivide 1-to-4 ROUNDS
+                                         times (default 2, as
                                          bench/bench_meshes.cpp does), write a
                                          binary PLY without colours
   peers_util.py center MESH.ply          print the bounding-box centre X,Y,Z
@@ -239,9 +241,9 @@ def summary(path):
 
 
 def main(argv):
-    if len(argv) == 3 and argv[0] == "mesh":
+    if len(argv) in (3, 4) and argv[0] == "mesh":
         v, t = read_off(argv[1])
-        for _ in range(2):
+        for _ in range(int(argv[3]) if len(argv) == 4 else 2):
             v, t = subdivide(v, t)
         write_ply(argv[2], v, t)
         print(f"{argv[2]}: {len(v)} vertices, {len(t)} triangles")
