@@ -192,15 +192,19 @@ int aggregate(const LaplaceMatrix& a, std::vector<int>& aggregate_of) {
 class DenseRow {
  public:
   explicit DenseRow(Index cols) : s_(scratch()) {
-    for (int c : s_.touched) s_.sum[c] = 0.0, s_.seen[c] = 0;  // left by an exception
+    // A row left by an exception: every marked column is in `touched`
+    // (add() lists a column before marking it).
+    for (int c : s_.touched) s_.sum[c] = 0.0, s_.seen[c] = 0;
     s_.touched.clear();
-    if (s_.sum.size() < static_cast<std::size_t>(cols)) {
-      s_.sum.resize(static_cast<std::size_t>(cols), 0.0);
-      s_.seen.resize(static_cast<std::size_t>(cols), 0);
-    }
+    const auto n = static_cast<std::size_t>(cols);
+    if (s_.sum.size() < n) s_.sum.resize(n, 0.0);
+    if (s_.seen.size() < n) s_.seen.resize(n, 0);
   }
   void add(int col, double v) {
-    if (!s_.seen[col]) s_.seen[col] = 1, s_.touched.push_back(col);
+    if (!s_.seen[col]) {
+      s_.touched.push_back(col);
+      s_.seen[col] = 1;
+    }
     s_.sum[col] += v;
   }
   // Appends the row's non-zero entries to columns/values and clears it.
@@ -309,7 +313,8 @@ class Hierarchy {
       std::vector<int> aggregate_of;
       const int coarse = aggregate(fine.a, aggregate_of);
       if (coarse >= fine.a.rows() * 9 / 10) break;  // coarsening stalled: solve here
-      fine.p = smoothed_prolongation(fine.a, fine.jacobi, aggregate_of, coarse);
+      LaplaceMatrix p = smoothed_prolongation(fine.a, fine.jacobi, aggregate_of, coarse);
+      fine.p.swap(p);
       fine.r = fine.p.transpose();
       const LaplaceMatrix ap = multiply_sparse(fine.a, fine.p);
       LaplaceMatrix coarse_a = multiply_sparse(fine.r, ap);
