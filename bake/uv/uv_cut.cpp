@@ -65,36 +65,52 @@ class ChartCutter {
     for (uint32_t t : tris) set_stamp(t, stamp_);
   }
 
-  // Connected components of tris over in-piece adjacency.
-  std::vector<std::vector<uint32_t>> components(const std::vector<uint32_t>& tris) {
+  // Connected components of tris (ascending) over in-piece adjacency, each
+  // ascending, in order of their smallest triangle.
+  std::vector<std::vector<uint32_t>> components(std::vector<uint32_t> tris) {
     mark(tris);
     const uint32_t piece = stamp_;
-    const uint32_t seen = fresh_stamp();
-    std::vector<std::vector<uint32_t>> comps;
+    // Every component takes a fresh stamp as its label.
+    std::vector<uint32_t> labels;
+    std::vector<std::size_t> sizes;
     std::vector<uint32_t> stack;
     for (uint32_t seed : tris) {
       if (stamp_of(seed) != piece) continue;
-      comps.emplace_back();
-      set_stamp(seed, seen);
+      const uint32_t label = fresh_stamp();
+      labels.push_back(label);
+      sizes.push_back(0);
+      set_stamp(seed, label);
       stack.push_back(seed);
       while (!stack.empty()) {
         const uint32_t t = stack.back();
         stack.pop_back();
-        comps.back().push_back(t);
+        ++sizes.back();
         for (int k = 0; k < 3; ++k) {
           const uint32_t a = g_.adj[3 * t + k];
           if (a == kNone || chart_[a / 3] != chart_id_ || stamp_of(a / 3) != piece) continue;
-          set_stamp(a / 3, seen);
+          set_stamp(a / 3, label);
           stack.push_back(a / 3);
         }
       }
-      std::sort(comps.back().begin(), comps.back().end());
+    }
+    std::vector<std::vector<uint32_t>> comps;
+    if (labels.size() == 1) {  // the usual case: the piece is connected
+      comps.push_back(std::move(tris));
+      return comps;
+    }
+    // Labels ascend (other tasks may take stamps in between): distribute tris
+    // in order, so each component stays ascending.
+    comps.resize(labels.size());
+    for (std::size_t c = 0; c < labels.size(); ++c) comps[c].reserve(sizes[c]);
+    for (uint32_t t : tris) {
+      const auto c = std::lower_bound(labels.begin(), labels.end(), stamp_of(t)) - labels.begin();
+      comps[static_cast<std::size_t>(c)].push_back(t);
     }
     return comps;
   }
 
   void process(std::vector<uint32_t> tris, std::vector<FlatChart>& out) {
-    for (auto& comp : components(tris)) flatten_or_split(std::move(comp), out);
+    for (auto& comp : components(std::move(tris))) flatten_or_split(std::move(comp), out);
   }
 
   uint32_t find(uint32_t c) {
@@ -337,9 +353,13 @@ class ChartCutter {
     return any;
   }
 
-  // Splits a piece in two halves of equal area across the longest axis of its
-  // centroids' bounding box.
-  std::pair<std::vector<uint32_t>, std::vector<uint32_t>> split(std::vector<uint32_t> tris) const {
+  // Splits a piece (ascending) in two halves of equal area across the longest
+  // axis of its centroids' bounding box: triangles in order of their
+  // centroid along it (ties by index), the first half up to half the area.
+  // Both halves come out ascending (a stable partition of the input, not a
+  // sort).
+  std::pair<std::vector<uint32_t>, std::vector<uint32_t>> split(
+      const std::vector<uint32_t>& tris) const {
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     double total = 0;
     for (uint32_t t : tris) {
@@ -350,17 +370,42 @@ class ChartCutter {
     }
     const Vec3 ext = hi - lo;
     const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    std::sort(tris.begin(), tris.end(), [&](uint32_t a, uint32_t b) {
-      const double ca = g_.centroid[a][axis], cb = g_.centroid[b][axis];
-      return ca < cb || (ca == cb && a < b);
-    });
-    std::size_t cut = 1;
-    double acc = g_.area[tris[0]];
-    while (cut + 1 < tris.size() && acc + g_.area[tris[cut]] <= 0.5 * total)
-      acc += g_.area[tris[cut++]];
-    std::vector<uint32_t> a(tris.begin(), tris.begin() + cut), b(tris.begin() + cut, tris.end());
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
+    // (centroid, position in tris): positions order like indices (tris is
+    // ascending), and the keys sit beside them rather than behind an index.
+    std::vector<std::pair<double, uint32_t>> order(tris.size());
+    for (std::size_t i = 0; i < tris.size(); ++i) {
+      order[i] = {g_.centroid[tris[i]][axis], static_cast<uint32_t>(i)};
+    }
+    // The first half in that order, by weighted quickselect (expected linear
+    // time; a full sort dominated the splitting of million-triangle charts).
+    // Invariant: order[0, low) holds the `low` first triangles of the sorted
+    // order, of area `below` <= half the total, and every triangle in
+    // order[high, n) comes after all of order[0, high). It ends with low =
+    // high: the longest prefix of at most half the area (at least the first
+    // triangle, at most all but the last, as before: order[0] is then the
+    // first and order[n - 1] the last).
+    const double half = 0.5 * total;
+    std::size_t low = 0, high = order.size();
+    double below = 0;
+    while (low < high) {
+      const std::size_t mid = low + (high - low) / 2;
+      std::nth_element(order.begin() + low, order.begin() + mid, order.begin() + high);
+      double left = 0;
+      for (std::size_t i = low; i <= mid; ++i) left += g_.area[tris[order[i].second]];
+      if (below + left <= half) {
+        below += left;
+        low = mid + 1;
+      } else {
+        high = mid;
+      }
+    }
+    const std::size_t cut = std::clamp<std::size_t>(low, 1, tris.size() - 1);
+    std::vector<uint8_t> first(tris.size(), 0);
+    for (std::size_t i = 0; i < cut; ++i) first[order[i].second] = 1;
+    std::vector<uint32_t> a, b;
+    a.reserve(cut);
+    b.reserve(tris.size() - cut);
+    for (std::size_t i = 0; i < tris.size(); ++i) (first[i] ? a : b).push_back(tris[i]);
     return {std::move(a), std::move(b)};
   }
 
