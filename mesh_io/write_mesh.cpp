@@ -1,7 +1,7 @@
 // PLY and OBJ writers. Not OpenMesh's writers: they export from a halfedge
-// mesh (ExporterT), which cannot hold the non-manifold faces MeshData keeps,
-// and the output is one memory buffer written at once (830k triangles in a
-// few tens of milliseconds; issue #3's budget).
+// mesh (ExporterT), which cannot hold the non-manifold faces MeshData keeps.
+// Records are formatted straight into a fixed buffer that is written out as
+// it fills (ChunkedFile), never the whole file in memory.
 #include "mesh_io/write_mesh.h"
 
 #include <algorithm>
@@ -10,8 +10,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <future>
 #include <initializer_list>
+#include <memory>
 #include <string>
+#include <string_view>
 
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/byte_order.h"
@@ -44,23 +47,98 @@ Status write_buffer(const fs::path& temp, const fs::path& target, const std::str
   return ok_status();
 }
 
-// Appends a float in the shortest form that reads back to the same float.
-void append_float(std::string& out, float v) {
-  char buf[32];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
-}
-// Appends " a b c" (each value after a space), in append_float's form.
-void append_floats(std::string& out, std::initializer_list<float> values) {
-  for (float v : values) {
-    out += ' ';
-    append_float(out, v);
+// A file written through fixed buffers that are filled in place and written
+// out whenever the next record might not fit: a mesh file is never whole in
+// memory (a 13M-triangle OBJ is 1 GB of text, whose buffer cost as much to
+// fault in as to format). A full buffer is written by a helper thread while
+// the next one is formatted (two buffers in turn): copying 1 GB into the page
+// cache takes this VM about as long as formatting it. I/O overlap only, not
+// a parallel loop, so not under --threads; the bytes do not depend on it.
+class ChunkedFile {
+ public:
+  static constexpr std::size_t kChunk = std::size_t{8} << 20;
+
+  ChunkedFile(const fs::path& temp, const fs::path& target)
+      : target_(target),
+        f_(std::fopen(temp.c_str(), "wb")),
+        buf_(new char[kChunk]),
+        spare_(new char[kChunk]) {
+    if (!f_) err_ = errno;
   }
+  ~ChunkedFile() {
+    wait();
+    if (f_) std::fclose(f_);
+  }
+  ChunkedFile(const ChunkedFile&) = delete;
+  ChunkedFile& operator=(const ChunkedFile&) = delete;
+
+  // Where the next at most n (<= kChunk) bytes go; hand the end back to done().
+  char* room(std::size_t n) {
+    if (kChunk - used_ < n) flush();
+    return buf_.get() + used_;
+  }
+  void done(char* end) { used_ = static_cast<std::size_t>(end - buf_.get()); }
+  void append(std::string_view text) {
+    for (std::size_t at = 0; at < text.size();) {
+      const std::size_t n = std::min(text.size() - at, kChunk);
+      char* p = room(n);
+      std::memcpy(p, text.data() + at, n);
+      done(p + n);
+      at += n;
+    }
+  }
+
+  Status close() {
+    flush();
+    wait();
+    if (f_) {
+      if (std::fflush(f_) != 0 && err_ == 0) err_ = errno ? errno : EIO;
+      if (std::fclose(f_) != 0 && err_ == 0) err_ = errno ? errno : EIO;
+      f_ = nullptr;
+    }
+    if (err_ != 0) {
+      return make_error(ErrorCode::kIo,
+                        "cannot write " + target_.string() + ": " + std::strerror(err_));
+    }
+    return ok_status();
+  }
+
+ private:
+  // Waits for the buffer being written; keeps the first error.
+  void wait() {
+    if (!writing_.valid()) return;
+    const int e = writing_.get();
+    if (err_ == 0) err_ = e;
+  }
+  // Hands the filled buffer to the writer and takes the other one.
+  void flush() {
+    wait();
+    if (used_ > 0 && f_ && err_ == 0) {
+      std::swap(buf_, spare_);
+      writing_ = std::async(std::launch::async, [f = f_, data = spare_.get(), n = used_] {
+        return std::fwrite(data, 1, n, f) == n ? 0 : (errno ? errno : EIO);
+      });
+    }
+    used_ = 0;
+  }
+
+  fs::path target_;
+  std::FILE* f_;
+  std::unique_ptr<char[]> buf_, spare_;
+  std::future<int> writing_;
+  std::size_t used_ = 0;
+  int err_ = 0;
+};
+
+// Formatting into a ChunkedFile's room: each returns the end of what it wrote.
+// A float in the shortest form that reads back to the same float (at most
+// 15 characters; room for 24), an unsigned integer (at most 20).
+constexpr std::size_t kMaxFloatChars = 24, kMaxUintChars = 20;
+inline char* put_float(char* p, float v) {
+  return std::to_chars(p, p + kMaxFloatChars, v).ptr;
 }
-void append_uint(std::string& out, uint64_t v) {
-  char buf[24];
-  auto r = std::to_chars(buf, buf + sizeof buf, v);
-  out.append(buf, r.ptr);
+inline char* put_uint(char* p, uint64_t v) {
+  return std::to_chars(p, p + kMaxUintChars, v).ptr;
 }
 
 template <class T>
@@ -122,57 +200,68 @@ Status write_ply(const fs::path& path, const MeshData& mesh, const MeshWriteOpti
         std::max<std::size_t>(max_corners, mesh.face_offsets[f + 1] - mesh.face_offsets[f]);
   }
   const bool wide = max_corners > 255;
-  std::string out = ply_header(mesh, ci, options.ascii, wide);
   const std::size_t nv = mesh.vertex_count(), nf = mesh.face_count();
   const std::size_t channels = ci.colours.empty() ? 0 : (ci.alpha ? 4 : 3);
-  if (!options.ascii) {
-    const std::size_t header = out.size();
-    const std::size_t vrec = 12 + channels;
-    out.resize(header + nv * vrec + nf * (wide ? 4 : 1) + mesh.face_vertices.size() * 4);
-    char* p = out.data() + header;
-    for (std::size_t v = 0; v < nv; ++v) {
-      const Float3& q = mesh.positions[v];
-      p = put_le(p, q.x);
-      p = put_le(p, q.y);
-      p = put_le(p, q.z);
-      for (std::size_t k = 0; k < channels; ++k)
-        *p++ = static_cast<char>(colour_to_byte(ci.colours[v][k]));
-    }
-    for (std::size_t f = 0; f < nf; ++f) {
-      const uint32_t b = mesh.face_offsets[f], e = mesh.face_offsets[f + 1];
-      if (wide)
-        p = put_le(p, static_cast<int32_t>(e - b));
-      else
-        *p++ = static_cast<char>(static_cast<uint8_t>(e - b));
-      for (uint32_t c = b; c < e; ++c) p = put_le(p, static_cast<int32_t>(mesh.face_vertices[c]));
-    }
-  } else {
-    out.reserve(out.size() + nv * 40 + mesh.face_vertices.size() * 8);
-    for (std::size_t v = 0; v < nv; ++v) {
-      const Float3& q = mesh.positions[v];
-      append_float(out, q.x);
-      out += ' ';
-      append_float(out, q.y);
-      out += ' ';
-      append_float(out, q.z);
-      for (std::size_t k = 0; k < channels; ++k) {
-        out += ' ';
-        append_uint(out, colour_to_byte(ci.colours[v][k]));
+  auto write = [&](const fs::path& temp) {
+    ChunkedFile out(temp, path);
+    out.append(ply_header(mesh, ci, options.ascii, wide));
+    if (!options.ascii) {
+      for (std::size_t v = 0; v < nv; ++v) {
+        char* p = out.room(16);
+        const Float3& q = mesh.positions[v];
+        p = put_le(p, q.x);
+        p = put_le(p, q.y);
+        p = put_le(p, q.z);
+        for (std::size_t k = 0; k < channels; ++k)
+          *p++ = static_cast<char>(colour_to_byte(ci.colours[v][k]));
+        out.done(p);
       }
-      out += '\n';
-    }
-    for (std::size_t f = 0; f < nf; ++f) {
-      const uint32_t b = mesh.face_offsets[f], e = mesh.face_offsets[f + 1];
-      append_uint(out, e - b);
-      for (uint32_t c = b; c < e; ++c) {
-        out += ' ';
-        append_uint(out, mesh.face_vertices[c]);
+      for (std::size_t f = 0; f < nf; ++f) {
+        const uint32_t b = mesh.face_offsets[f], e = mesh.face_offsets[f + 1];
+        char* p = out.room(4);
+        if (wide)
+          p = put_le(p, static_cast<int32_t>(e - b));
+        else
+          *p++ = static_cast<char>(static_cast<uint8_t>(e - b));
+        out.done(p);
+        for (uint32_t c = b; c < e; ++c) {
+          p = out.room(4);
+          out.done(put_le(p, static_cast<int32_t>(mesh.face_vertices[c])));
+        }
       }
-      out += '\n';
+    } else {
+      for (std::size_t v = 0; v < nv; ++v) {
+        char* p = out.room(3 * (kMaxFloatChars + 1) + 4 * 4 + 1);
+        const Float3& q = mesh.positions[v];
+        p = put_float(p, q.x);
+        *p++ = ' ';
+        p = put_float(p, q.y);
+        *p++ = ' ';
+        p = put_float(p, q.z);
+        for (std::size_t k = 0; k < channels; ++k) {
+          *p++ = ' ';
+          p = put_uint(p, colour_to_byte(ci.colours[v][k]));
+        }
+        *p++ = '\n';
+        out.done(p);
+      }
+      for (std::size_t f = 0; f < nf; ++f) {
+        const uint32_t b = mesh.face_offsets[f], e = mesh.face_offsets[f + 1];
+        char* p = out.room(kMaxUintChars);
+        out.done(put_uint(p, e - b));
+        for (uint32_t c = b; c < e; ++c) {
+          p = out.room(kMaxUintChars + 1);
+          *p++ = ' ';
+          out.done(put_uint(p, mesh.face_vertices[c]));
+        }
+        p = out.room(1);
+        *p++ = '\n';
+        out.done(p);
+      }
     }
-  }
-  return write_atomically(path,
-                          [&](const fs::path& temp) { return write_buffer(temp, path, out); });
+    return out.close();
+  };
+  return write_atomically(path, write);
 }
 
 Status write_obj(const fs::path& path, const MeshData& mesh, const MeshWriteOptions& options) {
@@ -180,53 +269,7 @@ Status write_obj(const fs::path& path, const MeshData& mesh, const MeshWriteOpti
   const bool uvs = mesh.has_uvs() && mesh.corner_uv.size() == mesh.face_vertices.size();
   const bool normals =
       !mesh.corner_normal.empty() && mesh.corner_normal.size() == mesh.face_vertices.size();
-  std::string out = "# written by texbake\n";
   const fs::path mtl_path = fs::path(path).replace_extension(".mtl");
-  if (!options.obj_material_texture.empty()) {
-    out += "mtllib " + mtl_path.filename().string() + "\nusemtl texbake\n";
-  }
-  out.reserve(mesh.vertex_count() * 48 + mesh.face_vertices.size() * 16);
-  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
-    const Float3& q = mesh.positions[v];
-    out += 'v';
-    append_floats(out, {q.x, q.y, q.z});
-    if (!ci.colours.empty()) {
-      const auto& c = ci.colours[v];
-      append_floats(out, {colour_to_byte(c[0]) / 255.f, colour_to_byte(c[1]) / 255.f,
-                          colour_to_byte(c[2]) / 255.f});
-    }
-    out += '\n';
-  }
-  if (uvs) {
-    for (const Float2& t : mesh.uvs) {
-      out += "vt";
-      append_floats(out, {t.u, t.v});
-      out += '\n';
-    }
-  }
-  if (normals) {
-    for (const Float3& n : mesh.normals) {
-      out += "vn";
-      append_floats(out, {n.x, n.y, n.z});
-      out += '\n';
-    }
-  }
-  for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-    out += 'f';
-    for (uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) {
-      out += ' ';
-      append_uint(out, uint64_t{mesh.face_vertices[c]} + 1);  // OBJ is 1-based
-      if (uvs || normals) {
-        out += '/';
-        if (uvs) append_uint(out, uint64_t{mesh.corner_uv[c]} + 1);
-        if (normals) {
-          out += '/';
-          append_uint(out, uint64_t{mesh.corner_normal[c]} + 1);
-        }
-      }
-    }
-    out += '\n';
-  }
   if (!options.obj_material_texture.empty()) {
     const std::string mtl =
         "# written by texbake\nnewmtl texbake\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd " +
@@ -236,8 +279,64 @@ Status write_obj(const fs::path& path, const MeshData& mesh, const MeshWriteOpti
     });
     if (!s) return s;
   }
-  return stage_or_write(options.file_set, path,
-                        [&](const fs::path& temp) { return write_buffer(temp, path, out); });
+  auto write = [&](const fs::path& temp) {
+    ChunkedFile out(temp, path);
+    out.append("# written by texbake\n");
+    if (!options.obj_material_texture.empty()) {
+      out.append("mtllib " + mtl_path.filename().string() + "\nusemtl texbake\n");
+    }
+    // "<tag> a b c\n": the values after spaces, in put_float's form.
+    auto put_floats = [&](std::string_view tag, std::initializer_list<float> values) {
+      char* p = out.room(tag.size() + values.size() * (kMaxFloatChars + 1) + 1);
+      p = std::copy(tag.begin(), tag.end(), p);
+      for (float v : values) {
+        *p++ = ' ';
+        p = put_float(p, v);
+      }
+      *p++ = '\n';
+      out.done(p);
+    };
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+      const Float3& q = mesh.positions[v];
+      if (ci.colours.empty()) {
+        put_floats("v", {q.x, q.y, q.z});
+      } else {
+        const auto& c = ci.colours[v];
+        put_floats("v", {q.x, q.y, q.z, colour_to_byte(c[0]) / 255.f, colour_to_byte(c[1]) / 255.f,
+                         colour_to_byte(c[2]) / 255.f});
+      }
+    }
+    if (uvs) {
+      for (const Float2& t : mesh.uvs) put_floats("vt", {t.u, t.v});
+    }
+    if (normals) {
+      for (const Float3& n : mesh.normals) put_floats("vn", {n.x, n.y, n.z});
+    }
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      char* p = out.room(1);
+      *p++ = 'f';
+      out.done(p);
+      for (uint32_t c = mesh.face_offsets[f]; c < mesh.face_offsets[f + 1]; ++c) {
+        p = out.room(3 * (kMaxUintChars + 1));
+        *p++ = ' ';
+        p = put_uint(p, uint64_t{mesh.face_vertices[c]} + 1);  // OBJ is 1-based
+        if (uvs || normals) {
+          *p++ = '/';
+          if (uvs) p = put_uint(p, uint64_t{mesh.corner_uv[c]} + 1);
+          if (normals) {
+            *p++ = '/';
+            p = put_uint(p, uint64_t{mesh.corner_normal[c]} + 1);
+          }
+        }
+        out.done(p);
+      }
+      p = out.room(1);
+      *p++ = '\n';
+      out.done(p);
+    }
+    return out.close();
+  };
+  return stage_or_write(options.file_set, path, write);
 }
 
 }  // namespace
