@@ -145,7 +145,7 @@ SampleOffset sample_offset(int s, int n) {
   return {(s + 0.5) / n - 0.5, (y - std::floor(y)) - 0.5};
 }
 
-Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRasterOptions& options) {
+Status AtlasBands::check(const MeshData& mesh, const AtlasRasterOptions& options) {
   const int n = options.size;
   const int spt = options.samples;
   if (n < 1 || n > kMaxAtlasSize) {
@@ -161,16 +161,8 @@ Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRaster
   if (!mesh.has_uvs() || mesh.triangle_corners.size() != mesh.triangles.size()) {
     return make_error(ErrorCode::kInvalidArgument, "the mesh has no UV coordinates");
   }
+  // The first bad triangle is reported.
   const std::size_t tri_count = mesh.triangles.size();
-  AtlasBands bands;
-  bands.size_ = n;
-  bands.samples_ = spt;
-  bands.overlaps_ = options.overlap_candidates;
-
-  // Triangle corners in pixel space (SPEC section 1 via pixel_from_uv), and
-  // validation: the first bad triangle is reported.
-  std::vector<TriPx>& px = bands.px_;
-  px.resize(tri_count);
   std::vector<uint8_t> bad(tri_count, 0);
   parallel_for_chunks(tri_count, 4096, [&](std::size_t begin, std::size_t end) {
     for (std::size_t t = begin; t < end; ++t) {
@@ -185,8 +177,6 @@ Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRaster
           bad[t] = 2;
           break;
         }
-        const PixelPos pp = pixel_from_uv(UV{uv.u, uv.v}, n, n);
-        px[t][k] = {pp.x, pp.y};
       }
     }
   });
@@ -197,6 +187,31 @@ Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRaster
                                                             : " has a non-finite UV coordinate"));
     }
   }
+  return ok_status();
+}
+
+Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRasterOptions& options) {
+  if (Status s = check(mesh, options); !s) return s.error();
+  const int n = options.size;
+  const int spt = options.samples;
+  const std::size_t tri_count = mesh.triangles.size();
+  AtlasBands bands;
+  bands.size_ = n;
+  bands.samples_ = spt;
+  bands.overlaps_ = options.overlap_candidates;
+
+  // Triangle corners in pixel space (SPEC section 1 via pixel_from_uv).
+  std::vector<TriPx>& px = bands.px_;
+  px.resize(tri_count);
+  parallel_for_chunks(tri_count, 4096, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t t = begin; t < end; ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const Float2 uv = triangle_uv(mesh, t, k);
+        const PixelPos pp = pixel_from_uv(UV{uv.u, uv.v}, n, n);
+        px[t][k] = {pp.x, pp.y};
+      }
+    }
+  });
 
   // Bin triangles into bands of rows by their dilated row range.
   const int band_total = (n + kBandRows - 1) / kBandRows;

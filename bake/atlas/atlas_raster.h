@@ -109,6 +109,10 @@ class AtlasBands {
  public:
   // Errors: those of rasterize_atlas.
   static Expected<AtlasBands> prepare(const MeshData& mesh, const AtlasRasterOptions& options);
+  // The errors prepare would give, without its tables (one pass over the
+  // corners): a bake can check its input before the long stages that come
+  // before the bands.
+  static Status check(const MeshData& mesh, const AtlasRasterOptions& options);
 
   int size() const { return size_; }
   int samples_per_texel() const { return samples_; }

@@ -492,7 +492,10 @@ int run_bake(const BakeCliOptions& o) {
   std::string what, written = o.output;  // the summary line: what was baked, where
   if (atlas) {
     // ---- Atlas: UV layout, bake, pad; write. ----
-    Expected<Atlas> baked = bake_atlas_texture(mesh->mesh, image->view(), proxy, atlas_opts, run);
+    // The loaded mesh is not needed afterwards: the bake takes it (one mesh in
+    // memory, not two).
+    Expected<Atlas> baked =
+        bake_atlas_texture(std::move(mesh->mesh), image->view(), proxy, atlas_opts, run);
     if (!baked) return report_mesh_error(baked.error(), o.mesh);
     for (const std::string& w : baked->stats.warnings) {
       std::cerr << "texbake: warning: " << w << "\n";

@@ -37,7 +37,7 @@ Status validate_options(const AtlasOptions& options) {
 namespace detail {
 
 Status lay_out_atlas(const MeshData& mesh, const Proxy* proxy, const AtlasOptions& options,
-                     Progress& progress, Atlas& atlas) {
+                     Progress& progress, Atlas& atlas, MeshData* consumed) {
   const AtlasBakeOptions& bo = options.bake;
   auto t0 = Clock::now();
   progress.start("uv_layout", 1);
@@ -63,10 +63,15 @@ Status lay_out_atlas(const MeshData& mesh, const Proxy* proxy, const AtlasOption
       break;
     case UvLayout::kMesh:
     case UvLayout::kAuto:
-      atlas.mesh = mesh;
+      if (consumed) {
+        atlas.mesh = std::move(*consumed);
+      } else {
+        atlas.mesh = mesh;
+      }
       break;
   }
-  layout->generated = UvAtlas{};  // free the layout's tables before the bake
+  if (consumed) *consumed = MeshData{};  // the input's memory, before the bake
+  layout->generated = UvAtlas{};         // free the layout's tables before the bake
   progress.finish();
   if (progress.cancelled()) return cancelled_error();
   atlas.stats.timings.uv_layout = seconds_since(t0);
@@ -75,8 +80,12 @@ Status lay_out_atlas(const MeshData& mesh, const Proxy* proxy, const AtlasOption
 
 }  // namespace detail
 
-Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
-                                   const AtlasOptions& options, const RunOptions& run) {
+namespace {
+
+// bake_atlas_texture, consuming `mesh` when `consumed` is it (lay_out_atlas).
+Expected<Atlas> atlas_texture(const MeshData& mesh, MeshData* consumed, const ImageView& image,
+                              const Proxy& proxy, const AtlasOptions& options,
+                              const RunOptions& run) {
   const auto start = Clock::now();
   if (Status s = validate_options(options); !s) return s.error();
   if (Status s = detail::check_image(image); !s) return s.error();
@@ -86,7 +95,8 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
   return detail::run_call<Atlas>(run, [&]() -> Expected<Atlas> {
     const AtlasBakeOptions& bo = options.bake;
     Atlas atlas;
-    if (Status s = detail::lay_out_atlas(mesh, &proxy, options, progress, atlas); !s) {
+    const Counts input = detail::mesh_counts(mesh);  // `mesh` may be consumed below
+    if (Status s = detail::lay_out_atlas(mesh, &proxy, options, progress, atlas, consumed); !s) {
       return s.error();
     }
     Timings& t = atlas.stats.timings;
@@ -99,7 +109,7 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
     if (progress.cancelled()) return cancelled_error();  // a false at the very end counts too
     atlas.image = std::move(baked->atlas);
     Counts& c = atlas.stats.counts;
-    c = detail::bake_counts(mesh, baked->counts);
+    c = detail::bake_counts(input, baked->counts);
     c.texels = baked->counts.texels;
     c.border_samples = baked->counts.border_samples;
     c.padded = baked->counts.padded;
@@ -116,6 +126,20 @@ Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image,
     t.total = seconds_since(start);
     return atlas;
   });
+}
+
+}  // namespace
+
+Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
+                                   const AtlasOptions& options, const RunOptions& run) {
+  return atlas_texture(mesh, nullptr, image, proxy, options, run);
+}
+
+Expected<Atlas> bake_atlas_texture(MeshData&& mesh, const ImageView& image, const Proxy& proxy,
+                                   const AtlasOptions& options, const RunOptions& run) {
+  Expected<Atlas> atlas = atlas_texture(mesh, &mesh, image, proxy, options, run);
+  mesh = MeshData{};  // also when the call failed before the layout took it
+  return atlas;
 }
 
 }  // namespace texbake

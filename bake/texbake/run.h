@@ -41,12 +41,12 @@ Error as_input(Error error);
 // `mesh` (as read_mesh counts them in MeshIssues).
 Counts mesh_counts(const MeshData& mesh);
 
-// mesh_counts(mesh) with the sample figures every bake counts alike
-// (samples, occluded, undefined, outside) from its own counts `b`
-// (VertexBakeCounts, AtlasBakeCounts).
+// The mesh's counts `mesh` (mesh_counts) with the sample figures every bake
+// counts alike (samples, occluded, undefined, outside) from its own counts
+// `b` (VertexBakeCounts, AtlasBakeCounts).
 template <class BakeCounts>
-Counts bake_counts(const MeshData& mesh, const BakeCounts& b) {
-  Counts c = mesh_counts(mesh);
+Counts bake_counts(const Counts& mesh, const BakeCounts& b) {
+  Counts c = mesh;
   c.samples = b.samples;
   c.occluded = b.occluded;
   c.undefined = b.undefined;
@@ -74,8 +74,11 @@ Status check_shading_colors(const VertexBakeOptions& options);
 // (proxy: null for a bake without one, which refuses kProxy) into
 // atlas.mesh, atlas.uv, atlas.repeat_u, atlas.stats.warnings and
 // timings.uv_layout. Progress stage "uv_layout". Errors: the layout's (as
-// as_input), kCancelled.
+// as_input), kCancelled. With `consumed` (the caller's own `mesh`, given up):
+// `mesh` is moved into atlas.mesh when the layout keeps its UVs, and freed
+// once atlas.mesh is made otherwise, so the bake holds one mesh, not two;
+// `mesh` must not be read afterwards.
 Status lay_out_atlas(const MeshData& mesh, const Proxy* proxy, const AtlasOptions& options,
-                     Progress& progress, Atlas& atlas);
+                     Progress& progress, Atlas& atlas, MeshData* consumed = nullptr);
 
 }  // namespace texbake::detail

@@ -325,6 +325,12 @@ struct Atlas {
 // stages: "uv_layout", "sample" (per atlas row).
 Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
                                    const AtlasOptions& options = {}, const RunOptions& run = {});
+// The same, taking the caller's mesh: the input's memory is given back as
+// soon as the atlas mesh (the input with its UVs) replaces it, and with
+// --uv mesh it becomes the atlas mesh without a copy, so the bake holds one
+// mesh, not two. On return `mesh` is empty, whether the call succeeded or not.
+Expected<Atlas> bake_atlas_texture(MeshData&& mesh, const ImageView& image, const Proxy& proxy,
+                                   const AtlasOptions& options = {}, const RunOptions& run = {});
 
 // The option checks bake_atlas_texture makes first (kUsage naming the CLI
 // flag): --size outside 1 .. kMaxAtlasSize, --samples outside

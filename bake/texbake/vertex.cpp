@@ -35,7 +35,7 @@ Expected<VertexColors> bake(const MeshData& mesh, const ImageView& image, const 
     VertexColors out;
     out.colors = std::move(baked->colors);
     Counts& c = out.stats.counts;
-    c = detail::bake_counts(mesh, baked->counts);
+    c = detail::bake_counts(detail::mesh_counts(mesh), baked->counts);
     c.filled = baked->counts.filled;
     c.unfilled = baked->counts.unfilled;
     if (Status s = detail::check_mapped(c.undefined, c.vertices, "vertices", out.stats.warnings);

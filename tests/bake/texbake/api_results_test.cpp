@@ -107,6 +107,56 @@ TEST(ApiResults, AtlasEqualsItsStagesCalledOneByOne) {
   EXPECT_GT(atlas->stats.timings.uv_layout, 0);
 }
 
+// The consuming overload: the same atlas as the const one, the caller's mesh
+// emptied (after a success or a failure); with --uv mesh the input itself
+// becomes the atlas mesh.
+TEST(ApiResults, TakingTheMeshOverGivesTheSameAtlas) {
+  const test::BunnyEarth* be = test::bunny_earth();
+  ASSERT_TRUE(be);
+  auto same_uvs = [](const MeshData& a, const MeshData& b) {
+    if (a.uvs.size() != b.uvs.size() || a.corner_uv != b.corner_uv) return false;
+    for (std::size_t i = 0; i < a.uvs.size(); ++i) {
+      if (a.uvs[i].u != b.uvs[i].u || a.uvs[i].v != b.uvs[i].v) return false;
+    }
+    return true;
+  };
+  AtlasOptions ao;
+  ao.bake.size = 64;
+  Expected<Atlas> kept = bake_atlas_texture(be->mesh, be->earth.view(), be->proxy, ao);
+  ASSERT_TRUE(kept) << kept.error().message;
+  MeshData given = be->mesh;
+  Expected<Atlas> taken = bake_atlas_texture(std::move(given), be->earth.view(), be->proxy, ao);
+  ASSERT_TRUE(taken) << taken.error().message;
+  EXPECT_TRUE(given.positions.empty() && given.triangles.empty() && given.face_vertices.empty());
+  EXPECT_TRUE(taken->image.pixels == kept->image.pixels);
+  EXPECT_TRUE(same_uvs(taken->mesh, kept->mesh));
+  EXPECT_EQ(taken->mesh.triangles, kept->mesh.triangles);
+  EXPECT_EQ(taken->stats.counts.vertices, be->mesh.vertex_count());  // the input's counts
+  EXPECT_EQ(taken->stats.counts.triangles, kept->stats.counts.triangles);
+  EXPECT_EQ(taken->stats.counts.samples, kept->stats.counts.samples);
+
+  // --uv mesh on the laid-out mesh: the same atlas, the input moved in whole.
+  ao.uv = UvLayout::kMesh;
+  Expected<Atlas> kept_mesh = bake_atlas_texture(kept->mesh, be->earth.view(), be->proxy, ao);
+  ASSERT_TRUE(kept_mesh) << kept_mesh.error().message;
+  MeshData with_uvs = kept->mesh;
+  Expected<Atlas> taken_mesh =
+      bake_atlas_texture(std::move(with_uvs), be->earth.view(), be->proxy, ao);
+  ASSERT_TRUE(taken_mesh) << taken_mesh.error().message;
+  EXPECT_TRUE(with_uvs.positions.empty() && with_uvs.uvs.empty());
+  EXPECT_TRUE(taken_mesh->image.pixels == kept_mesh->image.pixels);
+  EXPECT_TRUE(same_uvs(taken_mesh->mesh, kept->mesh));
+  EXPECT_EQ(taken_mesh->mesh.face_vertices, kept->mesh.face_vertices);
+  EXPECT_EQ(taken_mesh->stats.counts.vertices, kept->mesh.vertex_count());
+
+  // A call refused before the layout still takes the mesh.
+  MeshData refused = be->mesh;
+  AtlasOptions bad = ao;
+  bad.bake.size = 0;
+  EXPECT_FALSE(bake_atlas_texture(std::move(refused), be->earth.view(), be->proxy, bad));
+  EXPECT_TRUE(refused.positions.empty());
+}
+
 TEST(ApiResults, ProxyLayoutOfASphereRepeatsInU) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
