@@ -61,10 +61,9 @@ class ChunkedFile {
   ChunkedFile(const fs::path& temp, const fs::path& target)
       : target_(target),
         f_(std::fopen(temp.c_str(), "wb")),
+        err_(f_ ? 0 : (errno ? errno : EIO)),  // before the allocations can touch errno
         buf_(new char[kChunk]),
-        spare_(new char[kChunk]) {
-    if (!f_) err_ = errno;
-  }
+        spare_(new char[kChunk]) {}
   ~ChunkedFile() {
     wait();
     if (f_) std::fclose(f_);
@@ -124,10 +123,10 @@ class ChunkedFile {
 
   fs::path target_;
   std::FILE* f_;
+  int err_;
   std::unique_ptr<char[]> buf_, spare_;
   std::future<int> writing_;
   std::size_t used_ = 0;
-  int err_ = 0;
 };
 
 // Formatting into a ChunkedFile's room: each returns the end of what it wrote.

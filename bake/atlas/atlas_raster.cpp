@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -145,7 +146,24 @@ SampleOffset sample_offset(int s, int n) {
   return {(s + 0.5) / n - 0.5, (y - std::floor(y)) - 0.5};
 }
 
-Status AtlasBands::check(const MeshData& mesh, const AtlasRasterOptions& options) {
+namespace {
+
+// The rows of an n-row atlas that a triangle's samples may touch (its pixel
+// rows dilated by one, for the bilinear footprint): false when none.
+bool dilated_rows(const TriPx& p, int n, int& lo, int& hi) {
+  const double ymin = std::min({p[0].y, p[1].y, p[2].y});
+  const double ymax = std::max({p[0].y, p[1].y, p[2].y});
+  const double l = std::max(std::ceil(ymin - 1 - kCoverSlack), 0.0);
+  const double h = std::min(std::floor(ymax + 1 + kCoverSlack), n - 1.0);
+  if (l > h) return false;
+  lo = static_cast<int>(l);
+  hi = static_cast<int>(h);
+  return true;
+}
+
+}  // namespace
+
+Status AtlasBands::check(const MeshData& mesh, const AtlasRasterOptions& options, bool* covers) {
   const int n = options.size;
   const int spt = options.samples;
   if (n < 1 || n > kMaxAtlasSize) {
@@ -164,8 +182,11 @@ Status AtlasBands::check(const MeshData& mesh, const AtlasRasterOptions& options
   // The first bad triangle is reported.
   const std::size_t tri_count = mesh.triangles.size();
   std::vector<uint8_t> bad(tri_count, 0);
+  std::atomic<bool> any_rows{false};
   parallel_for_chunks(tri_count, 4096, [&](std::size_t begin, std::size_t end) {
+    bool rows = false;
     for (std::size_t t = begin; t < end; ++t) {
+      TriPx p{};
       for (int k = 0; k < 3; ++k) {
         const uint32_t corner = mesh.triangle_corners[t][k];
         if (corner >= mesh.corner_uv.size() || mesh.corner_uv[corner] >= mesh.uvs.size()) {
@@ -177,9 +198,15 @@ Status AtlasBands::check(const MeshData& mesh, const AtlasRasterOptions& options
           bad[t] = 2;
           break;
         }
+        const PixelPos pp = pixel_from_uv(UV{uv.u, uv.v}, n, n);
+        p[k] = {pp.x, pp.y};
       }
+      int lo = 0, hi = 0;
+      if (!bad[t] && !rows) rows = dilated_rows(p, n, lo, hi);
     }
+    if (rows) any_rows.store(true, std::memory_order_relaxed);
   });
+  if (covers) *covers = any_rows.load();
   for (std::size_t t = 0; t < tri_count; ++t) {
     if (bad[t]) {
       return make_error(ErrorCode::kParse, "triangle " + std::to_string(t) +
@@ -222,18 +249,11 @@ Expected<AtlasBands> AtlasBands::prepare(const MeshData& mesh, const AtlasRaster
   std::vector<uint32_t>& band_start = bands.band_start_;
   band_start.assign(band_total + 1, 0);
   for (std::size_t t = 0; t < tri_count; ++t) {
-    const auto& p = px[t];
-    const double ymin = std::min({p[0].y, p[1].y, p[2].y});
-    const double ymax = std::max({p[0].y, p[1].y, p[2].y});
-    const double lo = std::max(std::ceil(ymin - 1 - kCoverSlack), 0.0);
-    const double hi = std::min(std::floor(ymax + 1 + kCoverSlack), n - 1.0);
-    if (lo > hi) {
+    if (!dilated_rows(px[t], n, row_lo[t], row_hi[t])) {
       row_lo[t] = 1;
       row_hi[t] = 0;
       continue;
     }
-    row_lo[t] = static_cast<int>(lo);
-    row_hi[t] = static_cast<int>(hi);
     for (int b = row_lo[t] / kBandRows; b <= row_hi[t] / kBandRows; ++b) ++band_start[b + 1];
   }
   for (int b = 0; b < band_total; ++b) band_start[b + 1] += band_start[b];

@@ -111,8 +111,10 @@ class AtlasBands {
   static Expected<AtlasBands> prepare(const MeshData& mesh, const AtlasRasterOptions& options);
   // The errors prepare would give, without its tables (one pass over the
   // corners): a bake can check its input before the long stages that come
-  // before the bands.
-  static Status check(const MeshData& mesh, const AtlasRasterOptions& options);
+  // before the bands. With `covers`: whether the bands will hold any
+  // triangle (!empty()), i.e. whether some triangle reaches the atlas' rows.
+  static Status check(const MeshData& mesh, const AtlasRasterOptions& options,
+                      bool* covers = nullptr);
 
   int size() const { return size_; }
   int samples_per_texel() const { return samples_; }

@@ -298,12 +298,13 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   // Candidate triangles of overlapping samples matter only when rays choose.
   const bool overlaps = options.resolve_overlaps && sh.visibility == Visibility::kFirst;
   const AtlasRasterOptions raster_options{options.size, options.samples, overlaps};
-  if (Status s = AtlasBands::check(mesh, raster_options); !s) return s.error();
+  bool covers = false;  // some triangle reaches the atlas' rows: the bands are not empty
+  if (Status s = AtlasBands::check(mesh, raster_options, &covers); !s) return s.error();
   double prepare_seconds = seconds_since(t0);
 
   // The scene, shared by the samples' rays and the fill's vertex bake.
   std::optional<EmbreeScene> scene;
-  if (sh.visibility == Visibility::kFirst && !mesh.triangles.empty()) {
+  if (sh.visibility == Visibility::kFirst && covers) {
     t0 = Clock::now();
     Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
     if (!built) return built.error();
@@ -334,8 +335,8 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   // points) need it: their texels are deferred and finished after the pass,
   // if there are any.
   std::vector<Rgba> fill_colors;
-  const bool fill_first = sh.occluded == OccludedMode::kFill &&
-                          sh.visibility == Visibility::kFirst && !mesh.triangles.empty();
+  const bool fill_first =
+      sh.occluded == OccludedMode::kFill && sh.visibility == Visibility::kFirst && covers;
   if (fill_first) {
     if (is_cancelled(progress)) return cancelled_error();
     t0 = Clock::now();

@@ -382,8 +382,8 @@ class ChartCutter {
     // order, of area `below` <= half the total, and every triangle in
     // order[high, n) comes after all of order[0, high). It ends with low =
     // high: the longest prefix of at most half the area (at least the first
-    // triangle, at most all but the last, as before: order[0] is then the
-    // first and order[n - 1] the last).
+    // triangle, at most all but the last: order[0] is then the first and
+    // order[n - 1] the last).
     const double half = 0.5 * total;
     std::size_t low = 0, high = order.size();
     double below = 0;
@@ -399,7 +399,24 @@ class ChartCutter {
         high = mid;
       }
     }
-    const std::size_t cut = std::clamp<std::size_t>(low, 1, tris.size() - 1);
+    std::size_t cut = std::clamp<std::size_t>(low, 1, tris.size() - 1);
+    // The halves must be those of the one-by-one sum in sorted order (the
+    // atlas depends on them). The blocks' sums above differ from it only by
+    // rounding, which decides the cut only when the total lands within
+    // rounding of half (equal areas, as on a subdivided mesh, do that):
+    // then the whole order is sorted and summed that way.
+    auto area_at = [&](std::size_t i) { return g_.area[tris[order[i].second]]; };
+    const double slack =
+        4.0 * static_cast<double>(tris.size()) * std::numeric_limits<double>::epsilon() * total;
+    // The triangle after the prefix in sorted order: the least of the rest.
+    const auto next = std::min_element(order.begin() + low, order.end());
+    if (std::abs(below - half) <= slack ||
+        (next != order.end() && std::abs(below + g_.area[tris[next->second]] - half) <= slack)) {
+      std::sort(order.begin(), order.end());
+      cut = 1;
+      double acc = area_at(0);
+      while (cut + 1 < tris.size() && acc + area_at(cut) <= half) acc += area_at(cut++);
+    }
     std::vector<uint8_t> first(tris.size(), 0);
     for (std::size_t i = 0; i < cut; ++i) first[order[i].second] = 1;
     std::vector<uint32_t> a, b;

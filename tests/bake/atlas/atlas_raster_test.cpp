@@ -259,6 +259,40 @@ TEST(AtlasRaster, IndependentOfThreadCount) {
   EXPECT_EQ(one.border_samples, two.border_samples);
 }
 
+// AtlasBands::check: prepare's errors without its tables, and whether the
+// bands will hold anything (a bake skips its scene and fill when not).
+TEST(AtlasRaster, CheckGivesPreparesErrorsAndWhetherAnyRowIsReached) {
+  const AtlasRasterOptions options{8, 1};
+  bool covers = false;
+  const MeshData inside = make_flat_uv_soup({{0.2f, 0.2f}, {0.8f, 0.2f}, {0.2f, 0.8f}});
+  ASSERT_TRUE(AtlasBands::check(inside, options, &covers));
+  EXPECT_TRUE(covers);
+  // Far above and below the unit square: no row of the atlas, however dilated.
+  for (float v0 : {2.0f, -1.5f}) {
+    const MeshData outside = make_flat_uv_soup({{0.2f, v0}, {0.8f, v0}, {0.2f, v0 + 0.5f}});
+    covers = true;
+    ASSERT_TRUE(AtlasBands::check(outside, options, &covers));
+    EXPECT_FALSE(covers) << v0;
+    Expected<AtlasBands> bands = AtlasBands::prepare(outside, options);
+    ASSERT_TRUE(bands);
+    EXPECT_TRUE(bands->empty());
+  }
+  // Outside in u only: rows are reached (the columns are the raster's business).
+  const MeshData right = make_flat_uv_soup({{1.5f, 0.2f}, {1.9f, 0.2f}, {1.5f, 0.8f}});
+  ASSERT_TRUE(AtlasBands::check(right, options, &covers));
+  EXPECT_TRUE(covers);
+  // The errors are prepare's.
+  MeshData nan_uv = inside;
+  nan_uv.uvs[1].u = std::nanf("");
+  Status s = AtlasBands::check(nan_uv, options);
+  ASSERT_FALSE(s);
+  EXPECT_EQ(s.error().code, ErrorCode::kParse);
+  EXPECT_EQ(s.error().message, AtlasBands::prepare(nan_uv, options).error().message);
+  s = AtlasBands::check(inside, {8, 0});
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.error().message.find("--samples"), std::string::npos);
+}
+
 TEST(AtlasRaster, BadInputIsRejected) {
   const MeshData mesh = make_flat_uv_soup({{0, 0}, {1, 0}, {0, 1}});
   for (int size : {0, -3, kMaxAtlasSize + 1}) {

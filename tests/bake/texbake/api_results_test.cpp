@@ -107,9 +107,9 @@ TEST(ApiResults, AtlasEqualsItsStagesCalledOneByOne) {
   EXPECT_GT(atlas->stats.timings.uv_layout, 0);
 }
 
-// The consuming overload: the same atlas as the const one, the caller's mesh
-// emptied (after a success or a failure); with --uv mesh the input itself
-// becomes the atlas mesh.
+// The consuming overload: the same atlas and counts as the const one, the
+// caller's mesh emptied on return (after a success or a refusal); with --uv
+// mesh the input's arrays themselves become the atlas mesh's.
 TEST(ApiResults, TakingTheMeshOverGivesTheSameAtlas) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
@@ -131,23 +131,32 @@ TEST(ApiResults, TakingTheMeshOverGivesTheSameAtlas) {
   EXPECT_TRUE(taken->image.pixels == kept->image.pixels);
   EXPECT_TRUE(same_uvs(taken->mesh, kept->mesh));
   EXPECT_EQ(taken->mesh.triangles, kept->mesh.triangles);
-  EXPECT_EQ(taken->stats.counts.vertices, be->mesh.vertex_count());  // the input's counts
-  EXPECT_EQ(taken->stats.counts.triangles, kept->stats.counts.triangles);
-  EXPECT_EQ(taken->stats.counts.samples, kept->stats.counts.samples);
+  auto same_counts = [](const Counts& a, const Counts& b) {
+    return a.vertices == b.vertices && a.triangles == b.triangles &&
+           a.degenerate_triangles == b.degenerate_triangles &&
+           a.unreferenced_vertices == b.unreferenced_vertices && a.samples == b.samples &&
+           a.occluded == b.occluded && a.undefined == b.undefined && a.outside == b.outside &&
+           a.texels == b.texels && a.padded == b.padded;
+  };
+  EXPECT_TRUE(same_counts(taken->stats.counts, kept->stats.counts));
 
   // --uv mesh on the laid-out mesh: the same atlas, the input moved in whole.
   ao.uv = UvLayout::kMesh;
   Expected<Atlas> kept_mesh = bake_atlas_texture(kept->mesh, be->earth.view(), be->proxy, ao);
   ASSERT_TRUE(kept_mesh) << kept_mesh.error().message;
   MeshData with_uvs = kept->mesh;
+  const Float3* positions = with_uvs.positions.data();
+  const Float2* uvs = with_uvs.uvs.data();
   Expected<Atlas> taken_mesh =
       bake_atlas_texture(std::move(with_uvs), be->earth.view(), be->proxy, ao);
   ASSERT_TRUE(taken_mesh) << taken_mesh.error().message;
   EXPECT_TRUE(with_uvs.positions.empty() && with_uvs.uvs.empty());
+  EXPECT_EQ(taken_mesh->mesh.positions.data(), positions);  // moved, not copied
+  EXPECT_EQ(taken_mesh->mesh.uvs.data(), uvs);
   EXPECT_TRUE(taken_mesh->image.pixels == kept_mesh->image.pixels);
   EXPECT_TRUE(same_uvs(taken_mesh->mesh, kept->mesh));
   EXPECT_EQ(taken_mesh->mesh.face_vertices, kept->mesh.face_vertices);
-  EXPECT_EQ(taken_mesh->stats.counts.vertices, kept->mesh.vertex_count());
+  EXPECT_TRUE(same_counts(taken_mesh->stats.counts, kept_mesh->stats.counts));
 
   // A call refused before the layout still takes the mesh.
   MeshData refused = be->mesh;
