@@ -5,11 +5,17 @@
 // triangulation of the faces with the issues counted on the way.
 #include "mesh_io/read_mesh.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <memory>
 
 #include "mesh_io/file_name.h"
 #include "mesh_io/read_mesh_internal.h"
@@ -149,14 +155,37 @@ void triangulate_polygon(const MeshData& mesh, uint32_t first, uint32_t n,
   out.push_back({first + ring[0], first + ring[1], first + ring[2]});
 }
 
-// Edges shared by more than two faces, counted without a hash map: a counting
-// sort of the edges by their smaller vertex, then a small sort per bucket.
+// The loops below run on oneTBB in fixed blocks of faces or vertices: every
+// count is a sum and every output is written in face order, so the results
+// never depend on the thread count (callers limit it with a task arena).
+constexpr std::size_t kBlock = 1 << 14;
+
+template <class Fn>  // fn(block, begin, end) for the blocks of [0, n)
+void for_blocks(std::size_t n, Fn&& fn) {
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + kBlock - 1) / kBlock),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t b = r.begin(); b != r.end(); ++b)
+                        fn(b, b * kBlock, std::min(n, (b + 1) * kBlock));
+                    });
+}
+
+// Edges shared by more than two faces, counted without a hash map by a
+// two-level counting sort of the edges on their smaller vertex. The first
+// level streams each edge into the coarse bucket of its vertex's range of
+// kRange vertices (few enough buckets that their write positions stay in
+// cache); the second sorts one coarse bucket at a time, in cache, by vertex,
+// then each vertex's few other ends. A one-level sort scatters its writes
+// over all the vertices: a cache miss per edge, most of the time.
 std::size_t count_non_manifold_edges(const MeshData& mesh) {
+  constexpr unsigned kRangeBits = 10;
+  constexpr uint32_t kRange = 1u << kRangeBits;
   const std::size_t nv = mesh.vertex_count();
   const std::size_t nf = mesh.face_count();
-  std::vector<uint32_t> bucket_start(nv + 1, 0);
-  auto for_each_edge = [&](auto&& fn) {
-    for (std::size_t f = 0; f < nf; ++f) {
+  const std::size_t ranges = (nv >> kRangeBits) + 1;
+  const std::size_t blocks = (nf + kBlock - 1) / kBlock;
+  // fn(lo, hi) for the edges of faces [begin, end) (lo < hi).
+  auto for_each_edge = [&](std::size_t begin, std::size_t end, auto&& fn) {
+    for (std::size_t f = begin; f < end; ++f) {
       const uint32_t b = mesh.face_offsets[f], e = mesh.face_offsets[f + 1];
       for (uint32_t c = b; c < e; ++c) {
         const uint32_t v0 = mesh.face_vertices[c];
@@ -165,67 +194,138 @@ std::size_t count_non_manifold_edges(const MeshData& mesh) {
       }
     }
   };
-  for_each_edge([&](uint32_t lo, uint32_t) { ++bucket_start[lo + 1]; });
-  for (std::size_t v = 0; v < nv; ++v) bucket_start[v + 1] += bucket_start[v];
-  std::vector<uint32_t> other(bucket_start[nv]);
-  std::vector<uint32_t> fill(bucket_start.begin(), bucket_start.end() - 1);
-  for_each_edge([&](uint32_t lo, uint32_t hi) { other[fill[lo]++] = hi; });
-  std::size_t count = 0;
-  for (std::size_t v = 0; v < nv; ++v) {
-    auto b = other.begin() + bucket_start[v], e = other.begin() + bucket_start[v + 1];
-    std::sort(b, e);
-    for (auto it = b; it != e;) {
-      auto run = std::find_if(it, e, [&](uint32_t x) { return x != *it; });
-      if (run - it > 2) ++count;
-      it = run;
+  // First level: where each block of faces writes into each range, ranges
+  // in order and blocks in order within one.
+  std::vector<uint64_t> at(blocks * ranges, 0);  // [block][range]
+  for_blocks(nf, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    uint64_t* mine = at.data() + block * ranges;
+    for_each_edge(begin, end, [&](uint32_t lo, uint32_t) { ++mine[lo >> kRangeBits]; });
+  });
+  std::vector<uint64_t> range_start(ranges + 1, 0);
+  {
+    uint64_t total = 0;
+    for (std::size_t r = 0; r < ranges; ++r) {
+      range_start[r] = total;
+      for (std::size_t block = 0; block < blocks; ++block)
+        total += std::exchange(at[block * ranges + r], total);
     }
+    range_start[ranges] = total;
   }
-  return count;
+  // (offset of lo in its range, hi) per edge. Not zeroed first: the scatter
+  // writes every entry, and touching the fresh pages there spreads their
+  // (costly) first-touch faults over the threads.
+  const std::unique_ptr<uint64_t[]> edges(new uint64_t[range_start[ranges]]);
+  for_blocks(nf, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    uint64_t* mine = at.data() + block * ranges;
+    for_each_edge(begin, end, [&](uint32_t lo, uint32_t hi) {
+      edges[mine[lo >> kRangeBits]++] = (uint64_t{lo & (kRange - 1)} << 32) | hi;
+    });
+  });
+  at = {};
+  // Second level, one range per task.
+  std::atomic<std::size_t> count{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::size_t mine = 0;
+                      std::vector<uint32_t> start(kRange + 1), other;
+                      for (std::size_t range = r.begin(); range != r.end(); ++range) {
+                        const uint64_t* b = edges.get() + range_start[range];
+                        const uint64_t* e = edges.get() + range_start[range + 1];
+                        std::fill(start.begin(), start.end(), 0);
+                        for (const uint64_t* k = b; k != e; ++k) ++start[(*k >> 32) + 1];
+                        for (uint32_t v = 0; v < kRange; ++v) start[v + 1] += start[v];
+                        other.resize(static_cast<std::size_t>(e - b));
+                        for (const uint64_t* k = b; k != e; ++k)
+                          other[start[*k >> 32]++] = static_cast<uint32_t>(*k);
+                        // start[v] is now the end of vertex v's other ends.
+                        uint32_t from = 0;
+                        for (uint32_t v = 0; v < kRange; ++v) {
+                          auto vb = other.begin() + from, ve = other.begin() + start[v];
+                          from = start[v];
+                          std::sort(vb, ve);
+                          for (auto it = vb; it != ve;) {
+                            auto run = std::find_if(it, ve, [&](uint32_t x) { return x != *it; });
+                            if (run - it > 2) ++mine;
+                            it = run;
+                          }
+                        }
+                      }
+                      count.fetch_add(mine, std::memory_order_relaxed);
+                    });
+  return count.load();
 }
 
 }  // namespace
 
 MeshIssues triangulate_faces(MeshData& mesh) {
   MeshIssues issues;
-  mesh.triangles.clear();
-  mesh.triangle_corners.clear();
-  mesh.triangle_face.clear();
   const std::size_t nf = mesh.face_count();
-  // n - 2 triangles per face of n >= 3 corners: an upper bound when every
-  // face has three or more.
-  const std::size_t expected =
-      mesh.face_vertices.size() >= 2 * nf ? mesh.face_vertices.size() - 2 * nf : 0;
-  mesh.triangles.reserve(expected);
-  mesh.triangle_corners.reserve(expected);
-  mesh.triangle_face.reserve(expected);
-  auto keep = [&](const std::array<uint32_t, 3>& t, std::size_t f) {
-    const uint32_t a = mesh.face_vertices[t[0]], b = mesh.face_vertices[t[1]],
-                   c = mesh.face_vertices[t[2]];
-    if (a == b || b == c || a == c ||
-        is_degenerate(mesh.positions[a], mesh.positions[b], mesh.positions[c])) {
-      ++issues.degenerate_triangles;
-      return;
+  // Calls keep(triangle's corners) for the triangles of faces [begin, end)
+  // that are not degenerate, in order; returns the number of degenerate ones
+  // (a face of one or two corners counts as one).
+  auto triangles_of = [&](std::size_t begin, std::size_t end, auto&& keep) {
+    std::size_t degenerate = 0;
+    std::vector<std::array<uint32_t, 3>> scratch;
+    auto offer = [&](const std::array<uint32_t, 3>& t, std::size_t f) {
+      const uint32_t a = mesh.face_vertices[t[0]], b = mesh.face_vertices[t[1]],
+                     c = mesh.face_vertices[t[2]];
+      if (a == b || b == c || a == c ||
+          is_degenerate(mesh.positions[a], mesh.positions[b], mesh.positions[c])) {
+        ++degenerate;
+      } else {
+        keep(std::array<uint32_t, 3>{a, b, c}, t, f);
+      }
+    };
+    for (std::size_t f = begin; f < end; ++f) {
+      const uint32_t first = mesh.face_offsets[f];
+      const uint32_t n = mesh.face_offsets[f + 1] - first;
+      if (n < 3) {  // a face of one or two corners has no area
+        ++degenerate;
+      } else if (n == 3) {
+        offer({first, first + 1, first + 2}, f);
+      } else {
+        scratch.clear();
+        triangulate_polygon(mesh, first, n, scratch);
+        for (const auto& t : scratch) offer(t, f);
+      }
     }
-    mesh.triangles.push_back({a, b, c});
-    mesh.triangle_corners.push_back(t);
-    mesh.triangle_face.push_back(static_cast<uint32_t>(f));
+    return degenerate;
   };
-  std::vector<std::array<uint32_t, 3>> scratch;
-  for (std::size_t f = 0; f < nf; ++f) {
-    const uint32_t first = mesh.face_offsets[f];
-    const uint32_t n = mesh.face_offsets[f + 1] - first;
-    if (n < 3) {  // a face of one or two corners has no area
-      ++issues.degenerate_triangles;
-    } else if (n == 3) {
-      keep({first, first + 1, first + 2}, f);
-    } else {
-      scratch.clear();
-      triangulate_polygon(mesh, first, n, scratch);
-      for (const auto& t : scratch) keep(t, f);
-    }
+  // Two passes over fixed blocks of faces: count each block's triangles,
+  // then write them at the block's offset (the polygons are triangulated
+  // twice; most meshes have triangles only).
+  const std::size_t blocks = (nf + kBlock - 1) / kBlock;
+  std::vector<std::size_t> kept(blocks + 1, 0), degenerate(blocks, 0);
+  for_blocks(nf, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    std::size_t n = 0;
+    degenerate[block] =
+        triangles_of(begin, end, [&](const auto&, const auto&, std::size_t) { ++n; });
+    kept[block + 1] = n;
+  });
+  for (std::size_t b = 0; b < blocks; ++b) {
+    kept[b + 1] += kept[b];
+    issues.degenerate_triangles += degenerate[b];
   }
-  std::vector<char> used(mesh.vertex_count(), 0);
-  for (uint32_t v : mesh.face_vertices) used[v] = 1;
+  mesh.triangles.resize(kept[blocks]);
+  mesh.triangle_corners.resize(kept[blocks]);
+  mesh.triangle_face.resize(kept[blocks]);
+  for_blocks(nf, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    std::size_t at = kept[block];
+    triangles_of(begin, end,
+                 [&](const std::array<uint32_t, 3>& vertices,
+                     const std::array<uint32_t, 3>& corners, std::size_t f) {
+                   mesh.triangles[at] = vertices;
+                   mesh.triangle_corners[at] = corners;
+                   mesh.triangle_face[at++] = static_cast<uint32_t>(f);
+                 });
+  });
+  // Unreferenced vertices: flags set by any number of faces (relaxed atomic
+  // stores of the same value), then counted.
+  std::vector<uint8_t> used(mesh.vertex_count(), 0);
+  for_blocks(mesh.face_vertices.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c)
+      std::atomic_ref<uint8_t>(used[mesh.face_vertices[c]]).store(1, std::memory_order_relaxed);
+  });
   issues.unreferenced_vertices = static_cast<std::size_t>(std::count(used.begin(), used.end(), 0));
   issues.non_manifold_edges = count_non_manifold_edges(mesh);
   return issues;

@@ -67,13 +67,17 @@ struct LoadedMesh {
 };
 
 // Reads the mesh at `path`; the format comes from the extension (.obj, .ply,
-// .off, .stl, .glb, .gltf, case-insensitive).
+// .off, .stl, .glb, .gltf, case-insensitive). The triangulation and the
+// edge count run in parallel (oneTBB) in the caller's task arena; the
+// results do not depend on the thread count (texbake/texbake.h has an
+// overload taking RunOptions).
 Expected<LoadedMesh> read_mesh(const std::filesystem::path& path);
 
 // Fills mesh.triangles/triangle_corners/triangle_face from the faces
 // (positions and faces must be valid: indices < vertex count) and returns the
 // issues found (degenerate triangles, unreferenced vertices, non-manifold
-// edges). read_mesh calls it; it is public for meshes built in memory.
+// edges), in parallel like read_mesh. read_mesh calls it; it is public for
+// meshes built in memory.
 MeshIssues triangulate_faces(MeshData& mesh);
 
 }  // namespace texbake

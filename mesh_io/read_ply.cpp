@@ -361,6 +361,38 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
                                      std::to_string(e.count) +
                                      " records, the file ends in record " + std::to_string(whole));
     }
+    if (is_face && e.properties.size() == 1 && s.face_property == 0 && !swap &&
+        e.properties[0].is_list && e.properties[0].count_type == PlyType::kUInt8 &&
+        (e.properties[0].type == PlyType::kInt32 || e.properties[0].type == PlyType::kUInt32)) {
+      // The usual face element, one list of a uchar count and 32-bit
+      // indices in this machine's byte order: the loop below without its
+      // per-value type dispatch, with the same checks and messages.
+      const auto nv = static_cast<uint32_t>(s.mesh.positions.size());
+      const bool is_signed = e.properties[0].type == PlyType::kInt32;
+      auto truncated = [&](std::size_t i) {
+        return parse_error(s.path, "truncated: the file ends in " + e.name + " " +
+                                       std::to_string(i) + " of " + std::to_string(e.count));
+      };
+      for (std::size_t i = 0; i < e.count; ++i) {
+        if (p == end) return truncated(i);
+        const auto n = static_cast<uint8_t>(*p++);
+        if (static_cast<std::size_t>(end - p) / 4 < n) return truncated(i);
+        for (uint32_t j = 0; j < n; ++j, p += 4) {
+          uint32_t idx;
+          std::memcpy(&idx, p, 4);
+          if (idx >= nv) {  // a negative int32 is >= nv as unsigned
+            const long long shown = is_signed ? static_cast<long long>(static_cast<int32_t>(idx))
+                                              : static_cast<long long>(idx);
+            return parse_error(s.path, "face " + std::to_string(i) + " refers to vertex " +
+                                           std::to_string(shown) + " but there are " +
+                                           std::to_string(nv) + " vertices");
+          }
+          s.mesh.face_vertices.push_back(idx);
+        }
+        s.mesh.face_offsets.push_back(static_cast<uint32_t>(s.mesh.face_vertices.size()));
+      }
+      continue;
+    }
     std::vector<float> cscale(e.properties.size());
     for (std::size_t k = 0; k < e.properties.size(); ++k)
       cscale[k] = colour_divisor(e.properties[k].type);

@@ -446,7 +446,7 @@ int run_bake(const BakeCliOptions& o) {
 
   // ---- Load the mesh, resolve the proxy, load the image. ----
   auto stage_start = Clock::now();
-  Expected<LoadedMesh> mesh = read_mesh(o.mesh);
+  Expected<LoadedMesh> mesh = read_mesh(o.mesh, run);
   if (!mesh) return report_error(mesh.error());
   report.load = seconds_since(stage_start);
   if (atlas && o.atlas.uv == UvLayout::kMesh && !mesh->mesh.has_uvs()) {

@@ -23,10 +23,10 @@ struct CamerasArgs {
 int run_check(const CamerasArgs& a) {
   Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images);
   if (!photos) return report_error(photos.error());
-  Expected<LoadedMesh> mesh = read_mesh(a.mesh);
-  if (!mesh) return report_error(mesh.error());
   RunOptions run;
   run.threads = a.threads;
+  Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
+  if (!mesh) return report_error(mesh.error());
   Expected<std::vector<CameraCheck>> checks = check_cameras(mesh->mesh, *photos, run);
   if (!checks) return report_mesh_error(checks.error(), a.mesh);
   std::size_t warned = 0;

@@ -227,7 +227,7 @@ int run_render(const RenderArgs& args) {
   RunOptions run;
   run.threads = args.threads;
 
-  auto loaded = read_mesh(args.mesh);
+  auto loaded = read_mesh(args.mesh, run);
   if (!loaded) return report_error(loaded.error());
   const MeshData& mesh = loaded->mesh;
   // Nothing to render is the mesh's problem, reported before a fit's.

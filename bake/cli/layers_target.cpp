@@ -170,7 +170,7 @@ int run_layers_bake(const LayersJob& job) {
     }
     if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
   }
-  Expected<LoadedMesh> mesh = read_mesh(job.mesh);
+  Expected<LoadedMesh> mesh = read_mesh(job.mesh, RunOptions{job.threads, {}});
   if (!mesh) return report_error(mesh.error());
   if (job.atlas && mesh->mesh.has_texture()) {
     // Nor the base texture.

@@ -173,7 +173,7 @@ int run_photo_bake(const PhotoJob& job) {
       job.single ? Expected<std::vector<Photo>>(std::vector<Photo>{*job.single})
                  : read_cameras(job.flags.cameras, job.flags.images);
   if (!photos) return report_error(photos.error());
-  Expected<LoadedMesh> mesh = read_mesh(job.mesh);
+  Expected<LoadedMesh> mesh = read_mesh(job.mesh, RunOptions{job.threads, {}});
   if (!mesh) return report_error(mesh.error());
   const double load = seconds_since(stage);
   if (job.atlas && job.atlas_options.uv == UvLayout::kMesh && !mesh->mesh.has_uvs()) {

@@ -27,6 +27,10 @@ const char* version() {
   return TEXBAKE_VERSION;
 }
 
+Expected<LoadedMesh> read_mesh(const std::filesystem::path& path, const RunOptions& run) {
+  return detail::run_call<LoadedMesh>(run, [&] { return read_mesh(path); });
+}
+
 namespace {
 
 // Triangles of the faces' triangulation before degenerate ones are removed

@@ -428,6 +428,13 @@ Expected<Rendered> render_mesh(const MeshData& mesh, const ColorSource& source,
 
 // ---- Meshes ---------------------------------------------------------------
 
+// read_mesh (mesh_io/read_mesh.h) run in this call's task arena: its
+// triangulation and edge count run on run.threads threads (the plain
+// read_mesh runs them in the caller's arena: all cores unless the caller
+// limits them). The same mesh and issues for any thread count; run.progress
+// is not called.
+Expected<LoadedMesh> read_mesh(const std::filesystem::path& path, const RunOptions& run);
+
 // Ok when `mesh` has a non-degenerate triangle (what bake and render need).
 // Errors (kInput): "the mesh has no faces"; "all N triangles are
 // degenerate", N counting the triangles of the faces' triangulation before

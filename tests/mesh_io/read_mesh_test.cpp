@@ -4,9 +4,15 @@
 #include "mesh_io/read_mesh.h"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <random>
 #include <sstream>
 
 #include "tests/mesh_io/test_files.h"
@@ -249,6 +255,197 @@ TEST(ReadMeshData, SuzanneQuadsWithUvs) {
   EXPECT_EQ(m->mesh.triangles.size() + m->issues.degenerate_triangles, fan_triangles);
   EXPECT_TRUE(m->mesh.has_uvs());
   EXPECT_EQ(m->mesh.corner_uv.size(), m->mesh.face_vertices.size());
+}
+
+// A mesh big enough for every block and vertex range of triangulate_faces'
+// parallel passes (16384 faces, 1024 vertices): a 150 x 150 grid of quads,
+// most split in two triangles, some kept as quads, some given a repeated
+// corner, plus "fins" (a triangle on an existing edge) that make edges of 3
+// and 4 faces, and unreferenced vertices; vertex numbers shuffled so that
+// edges join far-apart ranges.
+MeshData big_mixed_mesh() {
+  constexpr uint32_t n = 150;
+  std::mt19937 rng(7);
+  const uint32_t grid = (n + 1) * (n + 1), extra = 3000, unused = 50;
+  std::vector<uint32_t> perm(grid + extra + unused);
+  std::iota(perm.begin(), perm.end(), 0u);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  MeshData m;
+  m.positions.resize(perm.size());
+  auto at = [&](uint32_t i, uint32_t j) { return perm[j * (n + 1) + i]; };
+  for (uint32_t j = 0; j <= n; ++j)
+    for (uint32_t i = 0; i <= n; ++i) m.positions[at(i, j)] = {float(i), float(j), 0.f};
+  for (uint32_t k = 0; k < extra + unused; ++k)
+    m.positions[perm[grid + k]] = {float(k % 97), float(k % 89), 1.f + float(k % 7)};
+  m.face_offsets = {0};
+  auto face = [&](std::initializer_list<uint32_t> vs) {
+    m.face_vertices.insert(m.face_vertices.end(), vs);
+    m.face_offsets.push_back(static_cast<uint32_t>(m.face_vertices.size()));
+  };
+  std::vector<std::pair<uint32_t, uint32_t>> edges;  // grid edges, for the fins
+  for (uint32_t j = 0; j < n; ++j) {
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+      const uint32_t kind = (i * 7 + j * 3) % 11;
+      if (kind == 0) {
+        face({a, b, c, d});  // convex quad: fanned
+      } else if (kind == 1) {
+        face({a, b, b});  // repeated corner: degenerate
+        face({a, c, d});
+      } else if (kind == 2) {
+        face({a, b});  // two corners: degenerate, its edge still counts
+        face({a, b, c});
+        face({a, c, d});
+      } else {
+        face({a, b, c});
+        face({a, c, d});
+      }
+      edges.emplace_back(a, b);
+    }
+  }
+  for (uint32_t k = 0; k < extra; ++k) {
+    const auto& [a, b] = edges[(k * 7919u) % edges.size()];
+    face({b, a, perm[grid + k]});
+  }
+  return m;
+}
+
+TEST(TriangulateFaces, BigMeshMatchesAOneByOneTriangulationAndAnEdgeMap) {
+  MeshData m = big_mixed_mesh();
+  ASSERT_GT(m.face_count(), 2u * 16384u);
+  // Expected, face by face: triangles in order; quads (convex here) fanned
+  // from their first corner; repeated vertices and faces under three corners
+  // skipped and counted. The fins stand at z > 0 over grid edges, so none
+  // is degenerate.
+  std::vector<std::array<uint32_t, 3>> corners;
+  std::vector<uint32_t> faces;
+  std::size_t degenerate = 0;
+  for (uint32_t f = 0; f < m.face_count(); ++f) {
+    const uint32_t first = m.face_offsets[f], count = m.face_offsets[f + 1] - first;
+    if (count < 3) {
+      ++degenerate;
+      continue;
+    }
+    for (uint32_t k = 1; k + 1 < count; ++k) {
+      const std::array<uint32_t, 3> t{first, first + k, first + k + 1};
+      const uint32_t a = m.face_vertices[t[0]], b = m.face_vertices[t[1]],
+                     c = m.face_vertices[t[2]];
+      if (a == b || b == c || a == c) {
+        ++degenerate;
+      } else {
+        corners.push_back(t);
+        faces.push_back(f);
+      }
+    }
+  }
+  std::map<std::pair<uint32_t, uint32_t>, int> edge_faces;
+  std::vector<bool> used(m.vertex_count(), false);
+  for (uint32_t f = 0; f < m.face_count(); ++f) {
+    const uint32_t b = m.face_offsets[f], e = m.face_offsets[f + 1];
+    for (uint32_t c = b; c < e; ++c) {
+      const uint32_t v0 = m.face_vertices[c], v1 = m.face_vertices[c + 1 < e ? c + 1 : b];
+      used[v0] = true;
+      if (v0 != v1) ++edge_faces[{std::min(v0, v1), std::max(v0, v1)}];
+    }
+  }
+  const auto non_manifold = static_cast<std::size_t>(std::count_if(
+      edge_faces.begin(), edge_faces.end(), [](const auto& e) { return e.second > 2; }));
+  ASSERT_GT(non_manifold, 1000u);  // fins and two-corner faces on grid edges
+
+  for (int threads : {1, 2, 3, 8}) {
+    MeshData run = m;
+    tbb::task_arena arena(threads);
+    const MeshIssues issues = arena.execute([&] { return triangulate_faces(run); });
+    SCOPED_TRACE(threads);
+    EXPECT_EQ(issues.degenerate_triangles, degenerate);
+    EXPECT_EQ(issues.unreferenced_vertices, 50u);
+    EXPECT_EQ(issues.unreferenced_vertices,
+              static_cast<std::size_t>(std::count(used.begin(), used.end(), false)));
+    EXPECT_EQ(issues.non_manifold_edges, non_manifold);
+    ASSERT_EQ(run.triangle_corners, corners);
+    EXPECT_EQ(run.triangle_face, faces);
+    ASSERT_EQ(run.triangles.size(), corners.size());
+    for (std::size_t t = 0; t < corners.size(); ++t) {
+      for (int k = 0; k < 3; ++k)
+        ASSERT_EQ(run.triangles[t][k], m.face_vertices[corners[t][k]]) << t;
+    }
+  }
+}
+
+// The usual binary PLY face list (uchar count, int or uint indices, this
+// machine's byte order) has its own loop: the same faces as the general
+// loop reads from the big-endian and ushort-count forms of the same file.
+TEST_F(ReadMesh, BinaryPlyFaceListsReadTheSameInEveryForm) {
+  // Without its faces of two corners (the reader's size check before
+  // allocating counts three indices a face).
+  const MeshData src = [] {
+    const MeshData big = big_mixed_mesh();
+    MeshData m;
+    m.positions = big.positions;
+    m.face_offsets = {0};
+    for (std::size_t f = 0; f < big.face_count(); ++f) {
+      if (big.face_offsets[f + 1] - big.face_offsets[f] < 3) continue;
+      m.face_vertices.insert(m.face_vertices.end(), big.face_vertices.begin() + big.face_offsets[f],
+                             big.face_vertices.begin() + big.face_offsets[f + 1]);
+      m.face_offsets.push_back(static_cast<uint32_t>(m.face_vertices.size()));
+    }
+    return m;
+  }();
+  auto write = [&](const MeshData& mesh, const std::string& name, bool big, const char* count,
+                   const char* index) {
+    const fs::path path = dir / name;
+    std::ofstream out(path, std::ios::binary);
+    out << "ply\nformat " << (big ? "binary_big_endian" : "binary_little_endian")
+        << " 1.0\nelement vertex " << mesh.vertex_count()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+        << mesh.face_count() << "\nproperty list " << count << " " << index
+        << " vertex_indices\nend_header\n";
+    auto put = [&](const void* p, std::size_t size) {
+      char bytes[4];
+      std::memcpy(bytes, p, size);
+      if (big) std::reverse(bytes, bytes + size);
+      out.write(bytes, static_cast<std::streamsize>(size));
+    };
+    for (const Float3& p : mesh.positions) put(&p.x, 4), put(&p.y, 4), put(&p.z, 4);
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+      const uint32_t b = mesh.face_offsets[f], e = mesh.face_offsets[f + 1];
+      if (std::strcmp(count, "uchar") == 0) {
+        const auto k = static_cast<uint8_t>(e - b);
+        put(&k, 1);
+      } else {
+        const auto k = static_cast<uint16_t>(e - b);
+        put(&k, 2);
+      }
+      for (uint32_t c = b; c < e; ++c) put(&mesh.face_vertices[c], 4);
+    }
+    return path;
+  };
+  for (const auto& [name, big, count, index] : {std::tuple{"le_int.ply", false, "uchar", "int"},
+                                                {"le_uint.ply", false, "uchar", "uint"},
+                                                {"be_int.ply", true, "uchar", "int"},
+                                                {"le_ushort.ply", false, "ushort", "int"}}) {
+    SCOPED_TRACE(name);
+    Expected<LoadedMesh> m = read_mesh(write(src, name, big, count, index));
+    ASSERT_TRUE(m.has_value()) << m.error().message;
+    EXPECT_EQ(m->mesh.face_offsets, src.face_offsets);
+    EXPECT_EQ(m->mesh.face_vertices, src.face_vertices);
+    ASSERT_EQ(m->mesh.vertex_count(), src.vertex_count());
+    EXPECT_EQ(m->mesh.positions[123].x, src.positions[123].x);
+  }
+  // An index past the vertices, read as int and as uint.
+  MeshData bad = src;
+  bad.face_vertices[7] = static_cast<uint32_t>(src.vertex_count());
+  const auto face_of_7 = std::upper_bound(src.face_offsets.begin(), src.face_offsets.end(), 7u) -
+                         src.face_offsets.begin() - 1;
+  const std::string message = "face " + std::to_string(face_of_7) + " refers to vertex " +
+                              std::to_string(src.vertex_count()) + " but there are " +
+                              std::to_string(src.vertex_count());
+  for (const char* index : {"int", "uint"}) {
+    Expected<LoadedMesh> m =
+        read_mesh(write(bad, std::string("bad_") + index + ".ply", false, "uchar", index));
+    ASSERT_FALSE(m.has_value());
+    EXPECT_NE(m.error().message.find(message), std::string::npos) << m.error().message;
+  }
 }
 
 }  // namespace
