@@ -7,12 +7,15 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <mutex>
 #include <string>
 #include <vector>
+
+#include "bake/util/parallel.h"
 
 namespace texbake {
 
@@ -185,24 +188,43 @@ Expected<EmbreeScene> EmbreeScene::build(const MeshData& mesh, BuildQuality qual
   // triangles): the scale of ray offsets (SPEC section 3).
   const std::size_t vertex_count = mesh.positions.size();
   impl->vertices.resize(3 * vertex_count + 1, 0.0f);
-  for (std::size_t i = 0; i < vertex_count; ++i) {
-    impl->vertices[3 * i + 0] = mesh.positions[i].x;
-    impl->vertices[3 * i + 1] = mesh.positions[i].y;
-    impl->vertices[3 * i + 2] = mesh.positions[i].z;
-  }
-  impl->indices.resize(3 * mesh.triangles.size());
-  double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                  std::numeric_limits<double>::infinity()};
-  double hi[3] = {-lo[0], -lo[1], -lo[2]};
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t v = mesh.triangles[t][k];
-      impl->indices[3 * t + k] = v;
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::min<double>(lo[a], impl->vertices[3 * v + a]);
-        hi[a] = std::max<double>(hi[a], impl->vertices[3 * v + a]);
-      }
+  parallel_for_chunks(vertex_count, 1 << 16, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      impl->vertices[3 * i + 0] = mesh.positions[i].x;
+      impl->vertices[3 * i + 1] = mesh.positions[i].y;
+      impl->vertices[3 * i + 2] = mesh.positions[i].z;
     }
+  });
+  // The indices copied and the box grown per fixed block of triangles, in
+  // parallel; the blocks' boxes are then merged (min and max are exact, so
+  // the box does not depend on the thread count).
+  constexpr std::size_t kTriangleBlock = 1 << 16;
+  const std::size_t triangle_count = mesh.triangles.size();
+  impl->indices.resize(3 * triangle_count);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  using Box = std::array<double, 6>;  // lo x, y, z, hi x, y, z
+  std::vector<Box> block_box(block_count(triangle_count, kTriangleBlock),
+                             Box{kInf, kInf, kInf, -kInf, -kInf, -kInf});
+  parallel_for_blocks(triangle_count, kTriangleBlock,
+                      [&](std::size_t block, std::size_t begin, std::size_t end) {
+                        Box box = block_box[block];
+                        for (std::size_t t = begin; t < end; ++t) {
+                          for (int k = 0; k < 3; ++k) {
+                            const uint32_t v = mesh.triangles[t][k];
+                            impl->indices[3 * t + k] = v;
+                            for (int a = 0; a < 3; ++a) {
+                              box[a] = std::min<double>(box[a], impl->vertices[3 * v + a]);
+                              box[3 + a] = std::max<double>(box[3 + a], impl->vertices[3 * v + a]);
+                            }
+                          }
+                        }
+                        block_box[block] = box;
+                      });
+  double lo[3] = {kInf, kInf, kInf};
+  double hi[3] = {-kInf, -kInf, -kInf};
+  for (const Box& box : block_box) {
+    for (int a = 0; a < 3; ++a)
+      lo[a] = std::min(lo[a], box[a]), hi[a] = std::max(hi[a], box[3 + a]);
   }
   if (!mesh.triangles.empty()) {
     impl->diagonal =
