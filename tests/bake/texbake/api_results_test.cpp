@@ -38,6 +38,29 @@ Proxy unit_plane() {
   return make_proxy(PlaneParams{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).value();
 }
 
+// read_mesh with RunOptions: the same mesh and issues as the plain reader,
+// on one thread or all; errors as the plain reader gives them.
+TEST(ApiResults, ReadMeshInAnArenaGivesThePlainReadersMesh) {
+  const std::filesystem::path path = test::shared_data("bunny00.off");
+  Expected<LoadedMesh> plain = read_mesh(path);
+  ASSERT_TRUE(plain.has_value()) << plain.error().message;
+  for (int threads : {1, 0}) {
+    RunOptions run;
+    run.threads = threads;
+    Expected<LoadedMesh> m = read_mesh(path, run);
+    ASSERT_TRUE(m.has_value()) << m.error().message;
+    EXPECT_EQ(m->mesh.triangles, plain->mesh.triangles);
+    EXPECT_EQ(m->mesh.triangle_face, plain->mesh.triangle_face);
+    EXPECT_EQ(m->issues.degenerate_triangles, plain->issues.degenerate_triangles);
+    EXPECT_EQ(m->issues.unreferenced_vertices, plain->issues.unreferenced_vertices);
+    EXPECT_EQ(m->issues.non_manifold_edges, plain->issues.non_manifold_edges);
+  }
+  Expected<LoadedMesh> missing = read_mesh(path.parent_path() / "no_such_mesh.off", RunOptions{});
+  ASSERT_FALSE(missing.has_value());
+  EXPECT_EQ(category(missing.error()), ErrorCategory::kInput);
+  EXPECT_NE(missing.error().message.find("no_such_mesh.off"), std::string::npos);
+}
+
 TEST(ApiResults, VertexStatsByHand) {
   const MeshData m = square_with_issues();
   ASSERT_EQ(m.triangles.size(), 32u);
