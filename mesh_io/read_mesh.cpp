@@ -182,7 +182,13 @@ std::size_t count_non_manifold_edges(const MeshData& mesh) {
   const std::size_t nv = mesh.vertex_count();
   const std::size_t nf = mesh.face_count();
   const std::size_t ranges = (nv >> kRangeBits) + 1;
-  const std::size_t blocks = (nf + kBlock - 1) / kBlock;
+  // The faces in at most 64 fixed chunks, so that the chunks' write
+  // positions (chunks x ranges) stay small however large the mesh.
+  const std::size_t chunks = std::clamp<std::size_t>(nf / kBlock, 1, 64);
+  auto for_chunks = [&](auto&& fn) {  // fn(chunk, begin, end), in parallel
+    tbb::parallel_for(std::size_t{0}, chunks,
+                      [&](std::size_t c) { fn(c, nf * c / chunks, nf * (c + 1) / chunks); });
+  };
   // fn(lo, hi) for the edges of faces [begin, end) (lo < hi).
   auto for_each_edge = [&](std::size_t begin, std::size_t end, auto&& fn) {
     for (std::size_t f = begin; f < end; ++f) {
@@ -194,11 +200,11 @@ std::size_t count_non_manifold_edges(const MeshData& mesh) {
       }
     }
   };
-  // First level: where each block of faces writes into each range, ranges
-  // in order and blocks in order within one.
-  std::vector<uint64_t> at(blocks * ranges, 0);  // [block][range]
-  for_blocks(nf, [&](std::size_t block, std::size_t begin, std::size_t end) {
-    uint64_t* mine = at.data() + block * ranges;
+  // First level: where each chunk of faces writes into each range, ranges
+  // in order and chunks in order within one.
+  std::vector<uint64_t> at(chunks * ranges, 0);  // [chunk][range]
+  for_chunks([&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    uint64_t* mine = at.data() + chunk * ranges;
     for_each_edge(begin, end, [&](uint32_t lo, uint32_t) { ++mine[lo >> kRangeBits]; });
   });
   std::vector<uint64_t> range_start(ranges + 1, 0);
@@ -206,8 +212,8 @@ std::size_t count_non_manifold_edges(const MeshData& mesh) {
     uint64_t total = 0;
     for (std::size_t r = 0; r < ranges; ++r) {
       range_start[r] = total;
-      for (std::size_t block = 0; block < blocks; ++block)
-        total += std::exchange(at[block * ranges + r], total);
+      for (std::size_t chunk = 0; chunk < chunks; ++chunk)
+        total += std::exchange(at[chunk * ranges + r], total);
     }
     range_start[ranges] = total;
   }
@@ -215,8 +221,8 @@ std::size_t count_non_manifold_edges(const MeshData& mesh) {
   // writes every entry, and touching the fresh pages there spreads their
   // (costly) first-touch faults over the threads.
   const std::unique_ptr<uint64_t[]> edges(new uint64_t[range_start[ranges]]);
-  for_blocks(nf, [&](std::size_t block, std::size_t begin, std::size_t end) {
-    uint64_t* mine = at.data() + block * ranges;
+  for_chunks([&](std::size_t chunk, std::size_t begin, std::size_t end) {
+    uint64_t* mine = at.data() + chunk * ranges;
     for_each_edge(begin, end, [&](uint32_t lo, uint32_t hi) {
       edges[mine[lo >> kRangeBits]++] = (uint64_t{lo & (kRange - 1)} << 32) | hi;
     });
