@@ -299,7 +299,9 @@ MeshIssues triangulate_faces(MeshData& mesh) {
   };
   // Two passes over fixed blocks of faces: count each block's triangles,
   // then write them at the block's offset (the polygons are triangulated
-  // twice; most meshes have triangles only).
+  // twice; most meshes have triangles only). Both passes run the same pure
+  // code (triangles_of: no state, the same floating-point operations), so
+  // the second keeps exactly the triangles the first counted.
   const std::size_t blocks = (nf + kBlock - 1) / kBlock;
   std::vector<std::size_t> kept(blocks + 1, 0), degenerate(blocks, 0);
   for_blocks(nf, [&](std::size_t block, std::size_t begin, std::size_t end) {

@@ -446,6 +446,61 @@ TEST_F(ReadMesh, BinaryPlyFaceListsReadTheSameInEveryForm) {
     ASSERT_FALSE(m.has_value());
     EXPECT_NE(m.error().message.find(message), std::string::npos) << m.error().message;
   }
+
+  // Every other bad or odd case gives the fast loop's file (uchar count)
+  // the general loop's outcome (ushort count), message for message: indices
+  // of -1 and 2^31 as int and uint, a file cut inside a list and just after
+  // a count, and an empty face.
+  auto outcome = [&](const fs::path& path) {
+    Expected<LoadedMesh> m = read_mesh(path);
+    if (m) return std::string("ok ") + std::to_string(m->mesh.face_vertices.size());
+    const std::string& e = m.error().message;
+    return e.substr(e.find(".ply: ") + 6);  // without the file's name
+  };
+  auto cut = [](const fs::path& path, std::uintmax_t bytes) {
+    fs::resize_file(path, fs::file_size(path) - bytes);
+    return path;
+  };
+  for (const char* index : {"int", "uint"}) {
+    for (uint32_t value : {0xFFFFFFFFu, 0x80000000u}) {
+      bad.face_vertices[7] = value;
+      const std::string name = std::string(index) + std::to_string(value);
+      const std::string fast = outcome(write(bad, name + "_c.ply", false, "uchar", index));
+      EXPECT_EQ(fast, outcome(write(bad, name + "_s.ply", false, "ushort", index)));
+      EXPECT_NE(fast.find("refers to vertex " +
+                          std::to_string(std::strcmp(index, "int") == 0
+                                             ? static_cast<long long>(static_cast<int32_t>(value))
+                                             : static_cast<long long>(value))),
+                std::string::npos)
+          << fast;
+    }
+    // The last face is a triangle: 2 bytes off cuts its last index, 12 its
+    // whole list (the count read, no index).
+    for (std::uintmax_t bytes : {2u, 12u}) {
+      const std::string name = std::string("cut") + index + std::to_string(bytes);
+      const std::string fast = cut(write(src, name + "_c.ply", false, "uchar", index), bytes);
+      const std::string fast_outcome = outcome(fast);
+      EXPECT_EQ(fast_outcome,
+                outcome(cut(write(src, name + "_s.ply", false, "ushort", index), bytes)));
+      EXPECT_NE(fast_outcome.find("truncated: the file ends in face " +
+                                  std::to_string(src.face_count() - 1) + " of " +
+                                  std::to_string(src.face_count())),
+                std::string::npos)
+          << fast_outcome;
+    }
+  }
+  ASSERT_EQ(src.face_offsets[src.face_count()] - src.face_offsets[src.face_count() - 1], 3u);
+  MeshData with_empty = src;
+  with_empty.face_offsets.insert(with_empty.face_offsets.begin() + 5, with_empty.face_offsets[5]);
+  Expected<LoadedMesh> empty_fast =
+      read_mesh(write(with_empty, "empty_c.ply", false, "uchar", "int"));
+  Expected<LoadedMesh> empty_general =
+      read_mesh(write(with_empty, "empty_s.ply", false, "ushort", "int"));
+  ASSERT_TRUE(empty_fast.has_value()) << empty_fast.error().message;
+  ASSERT_TRUE(empty_general.has_value()) << empty_general.error().message;
+  EXPECT_EQ(empty_fast->mesh.face_offsets, with_empty.face_offsets);
+  EXPECT_EQ(empty_general->mesh.face_offsets, with_empty.face_offsets);
+  EXPECT_EQ(empty_fast->issues.degenerate_triangles, empty_general->issues.degenerate_triangles);
 }
 
 }  // namespace
