@@ -1,17 +1,27 @@
 #!/usr/bin/env bash
-# startup_order_test.sh BINARY LIB...: BINARY's first DT_NEEDED entries are
-# the sonames of LIB..., in that order (cmake/StartupOrder.cmake: the
-# libraries costing start-up the most look-ups come first in the search
-# scope), and BINARY still needs everything it needed: every LIB is in the
-# closure ldd reports for it. Exit 1 with the two lists when not.
+# startup_order_test.sh BINARY CLOSURE_OF LIB...: BINARY's first DT_NEEDED
+# entries are the sonames of LIB..., in that order (cmake/StartupOrder.cmake:
+# the libraries costing start-up the most look-ups come first in the search
+# scope), and every one of them is in the closure of CLOSURE_OF (the
+# OpenImageIO library they were picked from), so naming them loads nothing
+# that was not loaded before. Exit 1 with what differs when not.
 set -euo pipefail
+if [ $# -lt 3 ]; then
+  echo "usage: startup_order_test.sh BINARY CLOSURE_OF LIB..." >&2
+  exit 2
+fi
 binary=$1
-shift
+closure_of=$2
+shift 2
 needed=$(readelf -dW "$binary" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p')
 expected=()
 for lib in "$@"; do
   soname=$(readelf -dW "$lib" | sed -n 's/.*(SONAME).*\[\(.*\)\]/\1/p')
-  expected+=("${soname:-$(basename "$lib")}")
+  if [ -z "$soname" ]; then
+    echo "startup order: $lib has no SONAME (the list should leave it out)" >&2
+    exit 1
+  fi
+  expected+=("$soname")
 done
 mapfile -t first < <(printf '%s\n' "$needed" | head -n "${#expected[@]}")
 if [ "${first[*]}" != "${expected[*]}" ]; then
@@ -20,11 +30,11 @@ if [ "${first[*]}" != "${expected[*]}" ]; then
   echo "  found:    ${first[*]}" >&2
   exit 1
 fi
-closure=$(ldd "$binary")
+closure=$(ldd "$closure_of")
 for name in "${expected[@]}"; do
   if ! grep -q "^[[:space:]]*$name => /" <<<"$closure"; then
-    echo "startup order: $name is not resolved in $binary's closure" >&2
+    echo "startup order: $name is not in the closure of $closure_of" >&2
     exit 1
   fi
 done
-echo "startup order: $binary names ${#expected[@]} libraries first (${expected[0]} ... ${expected[-1]})"
+echo "startup order: $binary names ${#expected[@]} libraries of $(basename "$closure_of")'s closure first (${expected[0]} ... ${expected[-1]})"
