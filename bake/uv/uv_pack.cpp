@@ -2,6 +2,7 @@
 // at one scale (conservative coverage) and packed by bottom-left fill over
 // column spans.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -232,19 +233,31 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
       // Fixed chunks of kGrain columns, one result slot each (parallel_for_chunks
       // may split a range at any point, so chunks are indexed explicitly).
       std::vector<Best> chunk_best((positions + kGrain - 1) / kGrain);
+      // The lowest score any chunk has found so far, shared as a pruning
+      // bound. Exact whatever the chunks' timing: a position is cut only
+      // when its score is at least one found elsewhere, and this turn's
+      // scores are distinct (one per position), so the winner is never cut.
+      std::atomic<long> shared{best.score};
       parallel_for_chunks(chunk_best.size(), 1, [&](std::size_t kb, std::size_t ke) {
         for (std::size_t k = kb; k < ke; ++k) {
           const std::size_t b = k * kGrain, e = std::min(positions, b + kGrain);
-          Best local = best;  // prune with what earlier rotations found (same for every chunk)
+          Best local = best;  // what earlier rotations found (same for every chunk)
           for (std::size_t i = b; i < e; ++i) {
             const int x = static_cast<int>(i) * stride;
+            const long bound = std::min(local.score, shared.load(std::memory_order_relaxed));
             // Scores grow with x at equal height: nothing further right in
-            // this chunk can beat a position already found at y = 0.
-            if (static_cast<long>(p.h) * size + x >= local.score) break;
-            const int y = lowest(p, x, local.score);
+            // this chunk can beat the bound once y = 0 cannot.
+            if (static_cast<long>(p.h) * size + x >= bound) break;
+            const int y = lowest(p, x, bound);
             if (y < 0) continue;
             const long score = (static_cast<long>(y) + p.h) * size + x;
-            if (score < local.score) local = {score, x, y, rot};
+            if (score < local.score) {
+              local = {score, x, y, rot};
+              long seen = shared.load(std::memory_order_relaxed);
+              while (score < seen &&
+                     !shared.compare_exchange_weak(seen, score, std::memory_order_relaxed)) {
+              }
+            }
           }
           chunk_best[k] = local;
         }
