@@ -201,9 +201,17 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
   // Lowest position of profile p at column x (y only grows while raising, so
   // this ends after at most one raise per occupied span), or -1 when it
   // cannot beat `bound` (score (top edge) * size + x) or exceeds max_height.
-  auto lowest = [&](const Profile& p, int x, long bound) {
+  //
+  // The answer is the least y at which every column is free, whatever column
+  // the walk starts at (each raise goes to the least y at or above the
+  // current one that its column allows, so it never passes that least y).
+  // Starting at `start` (0 <= start < p.w), the column that raised y last
+  // for the position before, usually gets to it in one raise: the walk then
+  // ends after one clean round instead of one per raise. `start` is set to
+  // the column of the last raise.
+  auto lowest = [&](const Profile& p, int x, long bound, int& start) {
     int y = 0;
-    for (int c = 0, clean = 0; clean < p.w; c = c + 1 == p.w ? 0 : c + 1) {
+    for (int c = start, clean = 0; clean < p.w; c = c + 1 == p.w ? 0 : c + 1) {
       const int len = p.top[c] - p.bottom[c] + 1;
       const int free = occupied.lowest_free(x + c, y + p.bottom[c], len);
       if (free == y + p.bottom[c]) {
@@ -212,6 +220,7 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
       }
       y = free - p.bottom[c];
       clean = 1;
+      start = c;
       if (y + p.h > max_height || (static_cast<long>(y) + p.h) * size + x >= bound) return -1;
     }
     return y;
@@ -242,13 +251,16 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
         for (std::size_t k = kb; k < ke; ++k) {
           const std::size_t b = k * kGrain, e = std::min(positions, b + kGrain);
           Best local = best;  // what earlier rotations found (same for every chunk)
+          int start = 0;      // the column that raised y last, in the chart's columns
           for (std::size_t i = b; i < e; ++i) {
             const int x = static_cast<int>(i) * stride;
+            // The same atlas column, seen from this position.
+            start = i == b ? 0 : std::max(0, start - stride);
             const long bound = std::min(local.score, shared.load(std::memory_order_relaxed));
             // Scores grow with x at equal height: nothing further right in
             // this chunk can beat the bound once y = 0 cannot.
             if (static_cast<long>(p.h) * size + x >= bound) break;
-            const int y = lowest(p, x, bound);
+            const int y = lowest(p, x, bound, start);
             if (y < 0) continue;
             const long score = (static_cast<long>(y) + p.h) * size + x;
             if (score < local.score) {
@@ -272,7 +284,8 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
                 x1 = std::min(size - p.w, best.x + stride - 1);
       for (int x = x0; x <= x1; ++x) {
         if (x == best.x) continue;
-        const int y = lowest(p, x, best.score);
+        int start = 0;
+        const int y = lowest(p, x, best.score, start);
         if (y < 0) continue;
         const long score = (static_cast<long>(y) + p.h) * size + x;
         if (score < best.score) best = {score, x, y, best.rot};
