@@ -158,10 +158,14 @@ ChartRaster rasterize_chart(const FlatChart& fc, double scale) {
   r.w = static_cast<int>(std::floor(x1 + kCoverEps)) + 1;
   r.h = static_cast<int>(std::floor(y1 + kCoverEps)) + 1;
   r.bits.assign(static_cast<std::size_t>(r.w) * r.h, 0);
+  // Texel positions of the local vertices, once each (a vertex is in about
+  // six triangles); the same values as computed per corner.
+  std::vector<Vec2> texel(fc.uv.size());
+  for (std::size_t v = 0; v < fc.uv.size(); ++v) {
+    texel[v] = {fc.uv[v].x * scale + 0.5, fc.uv[v].y * scale + 0.5};
+  }
   for (const auto& c : fc.corner) {
-    const Vec2 a{fc.uv[c[0]].x * scale + 0.5, fc.uv[c[0]].y * scale + 0.5};
-    const Vec2 b{fc.uv[c[1]].x * scale + 0.5, fc.uv[c[1]].y * scale + 0.5};
-    const Vec2 d{fc.uv[c[2]].x * scale + 0.5, fc.uv[c[2]].y * scale + 0.5};
+    const Vec2 a = texel[c[0]], b = texel[c[1]], d = texel[c[2]];
     const int i0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, d.x}) - kCoverEps)));
     const int i1 =
         std::min(r.w - 1, static_cast<int>(std::floor(std::max({a.x, b.x, d.x}) + kCoverEps)));
