@@ -21,7 +21,7 @@
 #
 # Measured on Debian 12 with its OpenImageIO 2.4 (265 libraries: 157k
 # look-ups, 57k of them libopenvdb's binding to itself): `texbake --version`
-# 165 -> 120 ms (hyperfine -N -w 3 -r 40, the two builds alternated); README,
+# 156 -> 117 ms (hyperfine -N -w 3 -r 40, the two builds alternated); README,
 # Performance.
 #
 # The list is worked out at configure time from the libraries installed,
