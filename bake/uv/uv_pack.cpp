@@ -246,9 +246,10 @@ int pack(const std::vector<ChartRaster>& rasters, const std::vector<uint32_t>& o
       // Fixed chunks of kGrain columns, one result slot each (parallel_for_chunks
       // may split a range at any point, so chunks are indexed explicitly).
       std::vector<Best> chunk_best((positions + kGrain - 1) / kGrain);
-      // The lowest score any chunk has found so far, shared as a pruning
-      // bound. Exact whatever the chunks' timing: a position is cut only
-      // when its score is at least one found elsewhere, and this turn's
+      // The lowest score any chunk has found so far (or the earlier turns'
+      // best), shared as a pruning bound. Exact whatever the chunks' timing:
+      // a position is cut only when its score is at least one found
+      // elsewhere or by an earlier turn (which wins a tie), and this turn's
       // scores are distinct (one per position), so the winner is never cut.
       std::atomic<long> shared{best.score};
       parallel_for_chunks(chunk_best.size(), 1, [&](std::size_t kb, std::size_t ke) {
