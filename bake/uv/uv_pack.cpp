@@ -150,20 +150,18 @@ class ColumnIntervals {
 
 ChartRaster rasterize_chart(const FlatChart& fc, double scale) {
   ChartRaster r;
+  // Texel positions of the local vertices, once each (a vertex is in about
+  // six triangles), and the raster's extent from them.
+  std::vector<Vec2> texel(fc.uv.size());
   double x1 = 0, y1 = 0;
-  for (const Vec2& p : fc.uv) {
-    x1 = std::max(x1, p.x * scale + 0.5);
-    y1 = std::max(y1, p.y * scale + 0.5);
+  for (std::size_t v = 0; v < fc.uv.size(); ++v) {
+    texel[v] = {fc.uv[v].x * scale + 0.5, fc.uv[v].y * scale + 0.5};
+    x1 = std::max(x1, texel[v].x);
+    y1 = std::max(y1, texel[v].y);
   }
   r.w = static_cast<int>(std::floor(x1 + kCoverEps)) + 1;
   r.h = static_cast<int>(std::floor(y1 + kCoverEps)) + 1;
   r.bits.assign(static_cast<std::size_t>(r.w) * r.h, 0);
-  // Texel positions of the local vertices, once each (a vertex is in about
-  // six triangles); the same values as computed per corner.
-  std::vector<Vec2> texel(fc.uv.size());
-  for (std::size_t v = 0; v < fc.uv.size(); ++v) {
-    texel[v] = {fc.uv[v].x * scale + 0.5, fc.uv[v].y * scale + 0.5};
-  }
   for (const auto& c : fc.corner) {
     const Vec2 a = texel[c[0]], b = texel[c[1]], d = texel[c[2]];
     const int i0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, d.x}) - kCoverEps)));
