@@ -72,9 +72,15 @@ texbake_build() {
     grep -q '^TEXBAKE_BUILD_TESTS:BOOL=ON' "$TEXBAKE_BUILD/CMakeCache.txt"; then
     suite=ON
   fi
-  local launcher=()
-  if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+  local extra=()
+  if command -v ccache >/dev/null 2>&1; then extra=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+  # The whole suite (no targets named) needs the Python module: ask for it,
+  # so that a build folder whose cache says otherwise (one configured by the
+  # demo before pybind11 was installed, by an older texbake) builds it, and a
+  # missing pybind11 fails here instead of in pytest. The demo leaves the
+  # choice to CMake (TEXBAKE_PYTHON=AUTO: built when pybind11 is installed).
+  if [ $# -eq 0 ]; then extra+=(-DTEXBAKE_PYTHON=ON); fi
   cmake -S "$TEXBAKE_ROOT" -B "$TEXBAKE_BUILD" -DCMAKE_BUILD_TYPE=Release \
-    -DTEXBAKE_BUILD_TESTS=$suite -DTEXBAKE_BUILD_BENCH=$suite "${launcher[@]}" >/dev/null
+    -DTEXBAKE_BUILD_TESTS=$suite -DTEXBAKE_BUILD_BENCH=$suite "${extra[@]}" >/dev/null
   cmake --build "$TEXBAKE_BUILD" --parallel "$jobs" "${targets[@]}"
 }
