@@ -37,11 +37,12 @@ const ModelInfo& info(CameraModel model) {
   return kModels[0];  // unreachable: every enumerator is in the table
 }
 
-constexpr double kRotationTolerance = 1e-6;
+// Files print rotations with 6-7 significant digits (SPEC section 9).
+constexpr double kRotationTolerance = 1e-5;
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
+std::string number(double v, int digits = 3) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
 }
 
@@ -60,7 +61,7 @@ Status check_rotation(const std::array<double, 9>& r, std::string_view what) {
   if (!(worst <= kRotationTolerance)) {
     return make_error(ErrorCode::kInvalidArgument,
                       std::string(what) + ": the rotation is not orthonormal (|R R^T - I| = " +
-                          number(worst) + ", more than 1e-6)");
+                          number(worst) + ", more than 1e-5)");
   }
   if (!(det > 0)) {
     return make_error(
@@ -156,15 +157,22 @@ Expected<CameraPose> pose_from_rotation(const std::array<double, 9>& r, Vec3 t, 
   return pose;
 }
 
-Expected<CameraPose> pose_from_quaternion(const std::array<double, 4>& q, Vec3 t, CameraAxes axes,
-                                          std::string_view what) {
-  if (Status s = check_finite(q.data(), q.size(), what); !s) return s.error();
-  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  if (!(std::abs(norm - 1) <= kRotationTolerance)) {
+Expected<CameraPose> pose_from_quaternion(const std::array<double, 4>& q_in, Vec3 t,
+                                          CameraAxes axes, std::string_view what) {
+  if (Status s = check_finite(q_in.data(), q_in.size(), what); !s) return s.error();
+  // Normalised as COLMAP does (files print 6-7 digits: |q| is 1 only to
+  // about 1e-6); scaled by its largest component first, so that tiny
+  // (denormal) components neither underflow nor divide by zero.
+  double largest = 0;
+  for (double v : q_in) largest = std::max(largest, std::abs(v));
+  if (!(largest > 0)) {
     return make_error(ErrorCode::kInvalidArgument,
-                      std::string(what) +
-                          ": the quaternion is not a unit quaternion (|q| = " + number(norm) + ")");
+                      std::string(what) + ": the quaternion is zero (no rotation)");
   }
+  std::array<double, 4> q{};
+  for (int i = 0; i < 4; ++i) q[i] = q_in[i] / largest;
+  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (double& v : q) v /= norm;
   const double w = q[0], x = q[1], y = q[2], z = q[3];
   const std::array<double, 9> r = {
       1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
@@ -254,9 +262,18 @@ Expected<CameraProjector> CameraProjector::make(CameraSpec spec) {
   c.fy_ = m.one_focal ? p[0] : p[1];
   c.cx_ = p[first_k - 2];
   c.cy_ = p[first_k - 1];
-  if (!(c.fx_ > 0 && c.fy_ > 0)) {
+  // A denormal focal length (below DBL_MIN) is no lens: 1 / f overflows.
+  if (!(c.fx_ >= std::numeric_limits<double>::min() &&
+        c.fy_ >= std::numeric_limits<double>::min())) {
+    return make_error(ErrorCode::kInvalidArgument, std::string(m.name) +
+                                                       ": the focal length must be positive (got " +
+                                                       number(std::min(c.fx_, c.fy_), 6) + ")");
+  }
+  if (!(c.cx_ >= 0 && c.cx_ <= spec.width && c.cy_ >= 0 && c.cy_ <= spec.height)) {
     return make_error(ErrorCode::kInvalidArgument,
-                      std::string(m.name) + ": the focal length must be positive");
+                      std::string(m.name) + ": the principal point (" + number(c.cx_, 6) + ", " +
+                          number(c.cy_, 6) + ") is outside the " + std::to_string(spec.width) +
+                          " x " + std::to_string(spec.height) + " image");
   }
   for (int i = first_k; i < m.params; ++i) c.k_[i - first_k] = p[i];
   const auto& k = c.k_;

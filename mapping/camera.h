@@ -56,9 +56,11 @@ struct CameraPose {
 enum class CameraAxes { kOpenCV, kOpenGL };
 
 // The pose forms of SPEC section 9, each turned into texbake's one form.
-// Every rotation must be orthonormal with determinant +1 within 1e-6 (a unit
-// quaternion within 1e-6), else kInvalidValue naming `what` (e.g. the key).
-// Rotations are used as given (not re-orthonormalised).
+// Every rotation matrix must be orthonormal with determinant +1 within 1e-5
+// (files print 6-7 significant digits), else kInvalidValue naming `what`
+// (e.g. the key); it is used as given (not re-orthonormalised). A
+// quaternion is normalised, as COLMAP does; a zero or non-finite one is an
+// error.
 //   q_wxyz + t: COLMAP's images.txt, world-to-camera.
 //   r + t:      a world-to-camera rotation (row-major) and translation.
 //   centre + r: the camera centre in the world and the world-to-camera r.
@@ -117,8 +119,10 @@ struct CameraProjection {
 
 class CameraProjector {
  public:
-  // Errors (kInvalidValue): wrong parameter count, a non-positive or
-  // non-finite focal length, a non-finite parameter, a size below 1 pixel.
+  // Errors (kInvalidValue): wrong parameter count, a non-finite parameter, a
+  // focal length that is not a positive normal number (zero, negative,
+  // denormal), a principal point outside [0, width] x [0, height], a size
+  // below 1 pixel.
   static Expected<CameraProjector> make(CameraSpec spec);
 
   const CameraSpec& spec() const { return spec_; }

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
@@ -150,7 +151,11 @@ void roll_forward(const fs::path& journal) {
     const std::size_t tab = line.find('\t');
     if (tab == std::string::npos) continue;
     const std::string temp = line.substr(0, tab), target = line.substr(tab + 1);
-    if (::access(temp.c_str(), F_OK) == 0) ::rename(temp.c_str(), target.c_str());
+    if (temp.empty()) {
+      ::unlink(target.c_str());  // a staged removal
+    } else if (::access(temp.c_str(), F_OK) == 0) {
+      ::rename(temp.c_str(), target.c_str());
+    }
   }
   in.close();
   ::unlink(journal.c_str());
@@ -266,8 +271,9 @@ struct AtomicFileSet::Impl {
   struct Entry {
     fs::path target;  // as given (for messages)
     fs::path real;    // after links
-    fs::path temp;    // empty for direct writes
+    fs::path temp;    // empty for direct writes and removals
     int slot = -1;
+    bool remove = false;  // a staged removal (stage_removal)
   };
   std::vector<Entry> entries;
   bool committed = false;
@@ -326,24 +332,48 @@ Status AtomicFileSet::stage(const fs::path& target, const WriteFunction& write) 
   return ok_status();
 }
 
+Status AtomicFileSet::stage_removal(const fs::path& target) {
+  struct stat st {};
+  if (::lstat(target.c_str(), &st) != 0) return ok_status();  // nothing to remove
+  if (S_ISDIR(st.st_mode)) {
+    return make_error(ErrorCode::kIo, "cannot replace " + target.string() + ": it is a folder");
+  }
+  const fs::path dir = folder_of(target);
+  if (::access(dir.c_str(), W_OK) != 0) {
+    return make_error(ErrorCode::kIo, "cannot remove " + target.string() + ": folder " +
+                                          dir.string() + " is not writable (" +
+                                          std::strerror(errno) + ")");
+  }
+  clean_stale_temporaries(dir);
+  Impl::Entry entry{target, target, {}, -1, true};
+  impl_->entries.push_back(std::move(entry));
+  return ok_status();
+}
+
 Status AtomicFileSet::commit() {
   std::vector<Impl::Entry>& entries = impl_->entries;
+  // Removals first: a reader then sees the old set, or the new one, never
+  // a stale file beside new ones.
+  std::stable_partition(entries.begin(), entries.end(),
+                        [](const Impl::Entry& e) { return e.remove; });
   std::size_t renamed = 0;
   std::size_t to_rename = 0;
-  for (const Impl::Entry& e : entries) to_rename += e.temp.empty() ? 0 : 1;
+  for (const Impl::Entry& e : entries) to_rename += e.temp.empty() && !e.remove ? 0 : 1;
   fs::path journal;
   g_committing.fetch_add(1);
   if (to_rename >= 2) {
-    // The journal: one "temporary<TAB>target" line per rename, in order.
+    // The journal: one "temporary<TAB>target" line per rename, in order,
+    // after one "<TAB>target" line per removal.
     for (const Impl::Entry& e : entries) {
-      if (journal.empty() && !e.temp.empty()) {
+      if (journal.empty() && (!e.temp.empty() || e.remove)) {
         journal = temp_path_for(e.real, kJournalExtension);
       }
     }
     std::ostringstream text;
     for (const Impl::Entry& e : entries) {
-      if (!e.temp.empty()) {
-        text << fs::absolute(e.temp).string() << '\t' << fs::absolute(e.real).string() << '\n';
+      if (!e.temp.empty() || e.remove) {
+        text << (e.remove ? std::string() : fs::absolute(e.temp).string()) << '\t'
+             << fs::absolute(e.real).string() << '\n';
       }
     }
     std::ofstream out(journal, std::ios::binary);
@@ -363,6 +393,15 @@ Status AtomicFileSet::commit() {
   Status result = ok_status();
   for (std::size_t i = 0; i < entries.size(); ++i) {
     Impl::Entry& e = entries[i];
+    if (e.remove) {
+      if (::unlink(e.real.c_str()) != 0 && errno != ENOENT) {
+        result = make_error(ErrorCode::kIo,
+                            "cannot remove " + e.target.string() + ": " + std::strerror(errno));
+        impl_->remove_temporaries(i);
+        break;
+      }
+      continue;
+    }
     if (e.temp.empty()) continue;
     std::error_code ec;
     fs::rename(e.temp, e.real, ec);

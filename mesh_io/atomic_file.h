@@ -60,9 +60,17 @@ class AtomicFileSet {
   // exception from write (kIo with its message).
   Status stage(const std::filesystem::path& target, const WriteFunction& write);
 
-  // Renames every staged temporary over its target. Errors: kIo naming the
-  // target whose rename failed (targets renamed before it keep their new
-  // content; the rest keep their old one, and the temporaries are removed).
+  // Removes `target` with the commit, before the renames (journalled with
+  // them): a file of an older set that must not outlive the new one (a
+  // COLMAP model's other form). Nothing to do when it does not exist (a
+  // symbolic link is removed itself). Errors (kIo naming the target, before
+  // anything changes): a folder, a folder that is not writable.
+  Status stage_removal(const std::filesystem::path& target);
+
+  // Removes the staged removals, then renames every staged temporary over
+  // its target. Errors: kIo naming the target whose removal or rename
+  // failed (targets removed or renamed before it keep their new state; the
+  // rest keep their old one, and the temporaries are removed).
   Status commit();
 
  private:

@@ -1,11 +1,11 @@
 #include "mesh_io/colmap_model.h"
 
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <sstream>
 #include <type_traits>
@@ -47,6 +47,17 @@ Expected<CameraProjector> make_photo_camera(const Intrinsics& in, const std::arr
   return camera;
 }
 
+// The intrinsics' own checks (CameraProjector::make's: focal lengths,
+// principal point, parameters), blamed on the camera's line or record, not
+// on the first image that uses it.
+Status check_intrinsics(const Intrinsics& in, uint64_t id, const std::string& where) {
+  Expected<CameraProjector> camera =
+      CameraProjector::make({in.model, in.width, in.height, in.params, CameraPose{}});
+  if (!camera)
+    return parse_error(where, "camera id " + std::to_string(id) + ": " + camera.error().message);
+  return ok_status();
+}
+
 // ---- Text ---------------------------------------------------------------
 
 // Calls fn(line_number, line) for every line that is not blank or a comment.
@@ -65,15 +76,20 @@ Status for_data_lines(const fs::path& path, Fn&& fn) {
   return ok_status();
 }
 
-// Whole-token numbers: "12x" or "1e999" are errors.
+// A whole token as a number: "12x" or "1e999" are errors.
 template <class T>
-bool read_token(std::istringstream& in, T& out) {
-  std::string token;
-  if (!(in >> token)) return false;
+bool parse_token(const std::string& token, T& out) {
   std::istringstream one(token);
   one >> out;
   return one && one.peek() == std::char_traits<char>::eof() &&
          (!std::is_floating_point_v<T> || std::isfinite(static_cast<double>(out)));
+}
+
+// The next whitespace-separated token as a number (parse_token).
+template <class T>
+bool read_token(std::istringstream& in, T& out) {
+  std::string token;
+  return (in >> token) && parse_token(token, out);
 }
 
 Expected<std::map<uint32_t, Intrinsics>> read_cameras_text(const fs::path& path) {
@@ -96,14 +112,21 @@ Expected<std::map<uint32_t, Intrinsics>> read_cameras_text(const fs::path& path)
       return Status(parse_error(where, "the width and height must be positive"));
     }
     Intrinsics cam{*model, static_cast<int>(width), static_cast<int>(height), {}};
-    double v = 0;
-    while (read_token(in, v)) cam.params.push_back(v);
-    if (!in.eof()) return Status(parse_error(where, "a camera parameter is not a finite number"));
+    for (std::string token; in >> token;) {
+      double v = 0;
+      if (!parse_token(token, v)) {
+        return Status(parse_error(where, "camera id " + std::to_string(id) +
+                                             ": a camera parameter is not a finite number (" +
+                                             token + ")"));
+      }
+      cam.params.push_back(v);
+    }
     if (static_cast<int>(cam.params.size()) != camera_param_count(*model)) {
       return Status(
           parse_error(where, model_name + " takes " + std::to_string(camera_param_count(*model)) +
                                  " parameters, got " + std::to_string(cam.params.size())));
     }
+    if (Status s = check_intrinsics(cam, id, where); !s) return s;
     if (!cameras.emplace(static_cast<uint32_t>(id), std::move(cam)).second) {
       return Status(parse_error(where, "camera id " + std::to_string(id) + " appears twice"));
     }
@@ -113,16 +136,44 @@ Expected<std::map<uint32_t, Intrinsics>> read_cameras_text(const fs::path& path)
   return cameras;
 }
 
+// A POINTS2D line: X Y POINT3D_ID triples of numbers (none: a blank line).
+// Checked so that a file with one line per image (no points lines) is an
+// error instead of every second image being skipped.
+bool is_points_line(std::string_view line) {
+  std::size_t tokens = 0, pos = 0;
+  while (true) {
+    pos = line.find_first_not_of(" \t", pos);
+    if (pos == std::string_view::npos) break;
+    std::size_t end = line.find_first_of(" \t", pos);
+    if (end == std::string_view::npos) end = line.size();
+    double v = 0;
+    const auto [ptr, ec] = std::from_chars(line.data() + pos, line.data() + end, v);
+    if (ec != std::errc() || ptr != line.data() + end) return false;
+    ++tokens;
+    pos = end;
+  }
+  return tokens % 3 == 0;
+}
+
 Expected<std::vector<ColmapImage>> read_images_text(const fs::path& path,
                                                     const std::map<uint32_t, Intrinsics>& cameras) {
   std::vector<ColmapImage> images;
   std::map<uint32_t, std::size_t> seen;
   const std::string file = path.filename().string();
-  bool points_line_next = false;
+  // The line number of the image whose 2D points line comes next (0: none).
+  std::size_t points_line_of = 0;
   Status s = for_data_lines(path, [&](std::size_t number, const std::string& line, bool blank) {
     // Each image has a second line, its 2D points, which may be empty.
-    if (points_line_next) {
-      points_line_next = false;
+    if (points_line_of != 0) {
+      const std::size_t image_line = points_line_of;
+      points_line_of = 0;
+      if (!is_points_line(line)) {
+        return Status(parse_error(
+            file + " line " + std::to_string(number),
+            "expected the 2D points of the image on line " + std::to_string(image_line) +
+                " (X Y POINT3D_ID triples, possibly none): COLMAP's images.txt has two lines "
+                "per image"));
+      }
       return ok_status();
     }
     if (blank) return ok_status();
@@ -156,7 +207,7 @@ Expected<std::vector<ColmapImage>> read_images_text(const fs::path& path,
     if (!camera) return Status(camera.error());
     images.push_back({static_cast<uint32_t>(id), static_cast<uint32_t>(camera_id), name,
                       std::move(camera).value()});
-    points_line_next = true;
+    points_line_of = number;
     return ok_status();
   });
   if (!s) return s.error();
@@ -165,18 +216,34 @@ Expected<std::vector<ColmapImage>> read_images_text(const fs::path& path,
 
 // ---- Binary -------------------------------------------------------------
 
-// A little-endian reader over a whole file held in memory (COLMAP's binary
-// models are small: cameras.bin a few hundred bytes, images.bin mostly 2D
-// points, which are skipped without copying).
+// A little-endian reader streaming a binary model file: only the fields
+// read are held, and the 2D points of images.bin (24 bytes each, most of a
+// large model: 50 M points are 1.2 GB) are skipped by seeking, so memory
+// stays at the images' poses and names whatever the file's size.
 class BinaryReader {
  public:
-  BinaryReader(std::string file, std::vector<char> bytes)
-      : file_(std::move(file)), bytes_(std::move(bytes)) {}
+  // The longest image name read (a path; a name without its NUL would
+  // otherwise run to the end of the file).
+  static constexpr std::size_t kMaxName = 4096;
+
+  static Expected<BinaryReader> open(const fs::path& path) {
+    std::error_code ec;
+    const uintmax_t size = fs::file_size(path, ec);
+    if (ec) {
+      return make_error(ErrorCode::kIo, path.string() + ": cannot open (" + ec.message() + ")");
+    }
+    BinaryReader r(path);
+    if (!r.in_) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
+    r.size_ = size;
+    return r;
+  }
 
   template <class T>
   bool read(T& out) {
-    if (bytes_.size() - pos_ < sizeof(T)) return false;
-    std::memcpy(&out, bytes_.data() + pos_, sizeof(T));
+    if (remaining() < sizeof(T)) return false;
+    char b[sizeof(T)];
+    if (!in_.read(b, sizeof(T))) return false;
+    std::memcpy(&out, b, sizeof(T));
     pos_ += sizeof(T);
     if constexpr (std::endian::native == std::endian::big && sizeof(T) > 1) {
       if constexpr (std::is_same_v<T, double>) {
@@ -187,37 +254,42 @@ class BinaryReader {
     }
     return true;
   }
-  bool read_string(std::string& out) {
-    const auto* begin = bytes_.data() + pos_;
-    const auto* end = static_cast<const char*>(std::memchr(begin, '\0', bytes_.size() - pos_));
-    if (!end) return false;
-    out.assign(begin, end);
-    pos_ += static_cast<std::size_t>(end - begin) + 1;
-    return true;
+  // Up to the NUL; false when the file ends first or the name is longer
+  // than kMaxName (then too_long).
+  bool read_string(std::string& out, bool& too_long) {
+    out.clear();
+    too_long = false;
+    char c = 0;
+    while (pos_ < size_ && in_.get(c)) {
+      ++pos_;
+      if (c == '\0') return true;
+      if (out.size() == kMaxName) {
+        too_long = true;
+        return false;
+      }
+      out.push_back(c);
+    }
+    return false;
   }
   bool skip(uint64_t count, uint64_t size) {
-    if (size != 0 && count > (bytes_.size() - pos_) / size) return false;
-    pos_ += static_cast<std::size_t>(count * size);
-    return true;
+    if (size != 0 && count > remaining() / size) return false;
+    pos_ += count * size;
+    in_.seekg(static_cast<std::streamoff>(pos_));
+    return static_cast<bool>(in_);
   }
-  std::size_t remaining() const { return bytes_.size() - pos_; }
+  uint64_t remaining() const { return size_ - pos_; }
   Error truncated(uint64_t record) const {
     return parse_error(file_, "truncated in record " + std::to_string(record));
   }
 
  private:
-  std::string file_;
-  std::vector<char> bytes_;
-  std::size_t pos_ = 0;
-};
+  explicit BinaryReader(const fs::path& path)
+      : file_(path.filename().string()), in_(path, std::ios::binary) {}
 
-Expected<BinaryReader> open_binary(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
-  return BinaryReader(path.filename().string(), std::move(bytes));
-}
+  std::string file_;
+  std::ifstream in_;
+  uint64_t size_ = 0, pos_ = 0;
+};
 
 Status check_count(BinaryReader& r, uint64_t count, uint64_t min_record_bytes,
                    const std::string& file) {
@@ -232,7 +304,7 @@ Status check_count(BinaryReader& r, uint64_t count, uint64_t min_record_bytes,
 // the file at min_record_bytes per record.
 Expected<BinaryReader> open_records(const fs::path& path, uint64_t min_record_bytes,
                                     uint64_t& count) {
-  Expected<BinaryReader> opened = open_binary(path);
+  Expected<BinaryReader> opened = BinaryReader::open(path);
   if (!opened) return opened.error();
   if (!opened->read(count)) return opened->truncated(0);
   if (Status s = check_count(*opened, count, min_record_bytes, path.filename().string()); !s) {
@@ -272,6 +344,7 @@ Expected<std::map<uint32_t, Intrinsics>> read_cameras_binary(const fs::path& pat
     for (double& v : cam.params) {
       if (!r.read(v)) return r.truncated(k);
     }
+    if (Status s = check_intrinsics(cam, id, where); !s) return s.error();
     if (!cameras.emplace(id, std::move(cam)).second) {
       return parse_error(where, "camera id " + std::to_string(id) + " appears twice");
     }
@@ -300,7 +373,14 @@ Expected<std::vector<ColmapImage>> read_images_binary(
     ok = ok && r.read(camera_id);
     std::string name;
     uint64_t points = 0;
-    ok = ok && r.read_string(name) && r.read(points) && r.skip(points, 24);
+    bool too_long = false;
+    ok = ok && r.read_string(name, too_long);
+    if (too_long) {
+      return parse_error(where, "the image name is longer than " +
+                                    std::to_string(BinaryReader::kMaxName) +
+                                    " bytes (no NUL: not a COLMAP images.bin?)");
+    }
+    ok = ok && r.read(points) && r.skip(points, 24);
     if (!ok) return r.truncated(k);
     if (name.empty()) return parse_error(where, "the image has no name");
     const auto cam = cameras.find(camera_id);
@@ -351,8 +431,9 @@ std::array<double, 4> quaternion_of(const std::array<double, 9>& r) {
   return q;
 }
 
-Status write_file(const fs::path& path, const std::string& bytes) {
-  return write_atomically(path, [&](const fs::path& temp) -> Status {
+// Stages `bytes` as `path` in `set`.
+Status stage_file(AtomicFileSet& set, const fs::path& path, const std::string& bytes) {
+  return set.stage(path, [&](const fs::path& temp) -> Status {
     std::ofstream out(temp, std::ios::binary);
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     out.close();
@@ -384,7 +465,12 @@ std::string exact(double v) {
 }  // namespace
 
 Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>& images,
-                          bool binary) {
+                          bool binary, AtomicFileSet* set) {
+  if (!set) {
+    AtomicFileSet own;
+    if (Status s = write_colmap_model(folder, images, binary, &own); !s) return s;
+    return own.commit();
+  }
   std::error_code ec;
   fs::create_directories(folder, ec);
   if (ec)
@@ -456,9 +542,26 @@ Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>
     }
   }
   if (!binary) img = text.str();
-  const std::string ext = binary ? ".bin" : ".txt";
-  if (Status s = write_file(folder / ("cameras" + ext), cam); !s) return s;
-  return write_file(folder / ("images" + ext), img);
+  // No 3D points: an empty points3D file, so that COLMAP itself reads the
+  // model and no earlier model's points stay beside these cameras.
+  std::string points;
+  if (binary) {
+    put<uint64_t>(points, 0);
+  } else {
+    points =
+        "# 3D point list with one line of data per point:\n"
+        "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
+        "# Number of points: 0\n";
+  }
+  const std::string ext = binary ? ".bin" : ".txt", other = binary ? ".txt" : ".bin";
+  for (const char* name : {"cameras", "images", "points3D"}) {
+    // The other form's files go with the commit: a reader prefers the
+    // binary form, so a stale cameras.bin would win over new text files.
+    if (Status s = set->stage_removal(folder / (name + other)); !s) return s;
+  }
+  if (Status s = stage_file(*set, folder / ("cameras" + ext), cam); !s) return s;
+  if (Status s = stage_file(*set, folder / ("points3D" + ext), points); !s) return s;
+  return stage_file(*set, folder / ("images" + ext), img);
 }
 
 Expected<std::vector<ColmapImage>> read_colmap_model(const fs::path& folder) {

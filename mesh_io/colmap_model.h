@@ -24,6 +24,8 @@
 
 namespace texbake {
 
+class AtomicFileSet;
+
 struct ColmapImage {
   uint32_t image_id = 0;
   uint32_t camera_id = 0;
@@ -43,11 +45,17 @@ struct ColmapImage {
 Expected<std::vector<ColmapImage>> read_colmap_model(const std::filesystem::path& folder);
 
 // Writes `images` as a COLMAP model into `folder` (created if missing):
-// cameras.txt + images.txt (numbers with 17 significant digits, so they read
-// back exactly; no 2D points) or, with `binary`, cameras.bin + images.bin.
-// Images with equal intrinsics share one camera id. Each file is written
-// atomically. Errors: kIo.
+// cameras.txt + images.txt + points3D.txt (numbers with 17 significant
+// digits, so they read back exactly; no 2D points, no 3D points) or, with
+// `binary`, the three .bin files. Images with equal intrinsics share one
+// camera id. The model's files and the removal of the other form's
+// (cameras, images, points3D of .bin for text and of .txt for binary: a
+// stale binary model would otherwise win over the new text one) are one
+// atomic set: staged in `set` when given (the caller commits it, with its
+// other files: a workspace's photos), else committed here. Errors: kIo
+// (nothing is changed).
 Status write_colmap_model(const std::filesystem::path& folder,
-                          const std::vector<ColmapImage>& images, bool binary);
+                          const std::vector<ColmapImage>& images, bool binary,
+                          AtomicFileSet* set = nullptr);
 
 }  // namespace texbake

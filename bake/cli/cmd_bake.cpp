@@ -233,6 +233,7 @@ int run_bake_photos(const BakeCliOptions& o, const CameraProjector* camera = nul
     job.flags.cameras = o.geometry.proxy_file->string();
     job.single = Photo{fs::path(o.texture).filename().string(), *camera, o.texture};
     job.flags.exposure = ExposureMode::kNone;  // one photo: nothing to balance
+    job.flags.strict_photos = true;            // --texture itself: never left out
     job.color_space = o.texture_colorspace;
   } else if (given_flags(*o.command, {"--texture-colorspace"}).size() > 0) {
     job.color_space = o.texture_colorspace;
@@ -323,6 +324,7 @@ int run_bake_layers(const BakeCliOptions& o) {
   job.threads = o.threads;
   job.quiet = o.quiet;
   job.cache_mb = o.cache_mb;
+  job.strict_photos = o.photos.strict_photos;
   job.on_report = o.on_report;
   return run_layers_bake(job);
 }
@@ -332,10 +334,12 @@ int run_bake(const BakeCliOptions& o) {
   if (!o.layers.empty()) return run_bake_layers(o);
   if (!o.photos.cameras.empty()) return run_bake_photos(o);
   if (const std::vector<std::string> photo_only =
-          given_flags(*o.command, {"--images", "--blend", "--exposure"});
+          given_flags(*o.command, {"--images", "--blend", "--exposure", "--strict-photos"});
       !photo_only.empty()) {
     return report_error(ErrorCode::kInvalidArgument,
-                        photo_only.front() + " applies to --cameras only");
+                        photo_only.front() + (photo_only.front() == "--strict-photos"
+                                                  ? " applies to --cameras and --layers only"
+                                                  : " applies to --cameras only"));
   }
   if (o.texture.empty()) {
     return report_error(

@@ -21,7 +21,9 @@ struct CamerasArgs {
 };
 
 int run_check(const CamerasArgs& a) {
-  Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images);
+  // Only the poses and photo sizes are needed, which the model holds: no
+  // photos folder (and no photo) is needed.
+  Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images, PhotoFolder::kNotNeeded);
   if (!photos) return report_error(photos.error());
   RunOptions run;
   run.threads = a.threads;
@@ -74,7 +76,9 @@ RunFunction add_cameras_command(CLI::App& app) {
       ->add_option("--cameras", args->cameras,
                    "a COLMAP sparse model folder or a JSON camera list (as bake --cameras)")
       ->required();
-  check->add_option("--images", args->images, "the photos' folder (default as bake --cameras)");
+  check->add_option("--images", args->images,
+                    "the photos' folder (not needed: the check reads no photo; accepted as in "
+                    "bake --cameras)");
   check->add_flag("--json", args->json, "print the table as JSON");
   check->add_option("--threads", args->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));

@@ -89,11 +89,22 @@ std::filesystem::path default_output(const std::string& mesh) {
 // --colmap DIR: the --views views, each as one photo DIR/images/view_NN.png
 // of a COLMAP PINHOLE camera (pinhole_of_view), with the model in
 // DIR/sparse/0/ (text): the layout `bake --cameras DIR/sparse/0` reads.
+// Photos and model are one atomic set (mesh_io/atomic_file.h), which also
+// removes an earlier binary model there: all of it appears, or nothing.
 int render_workspace(const MeshData& mesh, const ColorSource& source, const RenderOptions& options,
                      const RunOptions& run, const RenderArgs& args) {
   const std::filesystem::path dir = args.colmap;
   Expected<BoundingSphere> bounds = bounding_sphere(mesh);
   if (!bounds) return report_mesh_error(bounds.error(), args.mesh);
+  for (const std::filesystem::path& sub : {dir / "images", dir / "sparse" / "0"}) {
+    std::error_code ec;
+    std::filesystem::create_directories(sub, ec);
+    if (ec)
+      return report_error(ErrorCode::kIo, "cannot create " + sub.string() + ": " + ec.message());
+  }
+  AtomicFileSet set;
+  ImageWriteOptions photo_options;
+  photo_options.file_set = &set;
   std::vector<ColmapImage> images;
   for (int k = 0; k < options.views; ++k) {
     RenderOptions view = options;
@@ -103,19 +114,16 @@ int render_workspace(const MeshData& mesh, const ColorSource& source, const Rend
     if (!rendered) return report_mesh_error(rendered.error(), args.mesh);
     char name[32];
     std::snprintf(name, sizeof name, "view_%02d.png", k);
-    const std::filesystem::path photo = dir / "images" / name;
-    std::error_code ec;
-    std::filesystem::create_directories(photo.parent_path(), ec);
-    if (ec) return report_error(ErrorCode::kIo, "cannot create " + photo.parent_path().string());
-    if (Status st = write_image(photo, rendered->image.view()); !st)
+    if (Status st = write_image(dir / "images" / name, rendered->image.view(), photo_options); !st)
       return report_error(st.error());
     Expected<Camera> camera = make_camera(*bounds, view, view.azimuth_deg);
     if (!camera) return report_error(camera.error());
     images.push_back({static_cast<uint32_t>(k + 1), 1, name, pinhole_of_view(*camera)});
   }
-  if (Status st = write_colmap_model(dir / "sparse" / "0", images, /*binary=*/false); !st) {
+  if (Status st = write_colmap_model(dir / "sparse" / "0", images, /*binary=*/false, &set); !st) {
     return report_error(st.error());
   }
+  if (Status st = set.commit(); !st) return report_error(st.error());
   std::printf("rendered %d views as a COLMAP workspace: %s (images/, sparse/0/)\n", options.views,
               dir.string().c_str());
   return 0;
@@ -371,8 +379,9 @@ RunFunction add_render_command(CLI::App& app) {
                 "bake --cameras)");
   cmd->add_option("--colmap", args->colmap,
                   "write each of the --views views as a photo of a COLMAP workspace: "
-                  "DIR/images/view_NN.png and the PINHOLE cameras in DIR/sparse/0/ (text), "
-                  "which bake --cameras DIR/sparse/0 reads");
+                  "DIR/images/view_NN.png and the PINHOLE cameras in DIR/sparse/0/ (text; an "
+                  "earlier binary model there is removed), which bake --cameras DIR/sparse/0 "
+                  "reads; written all together or not at all");
   cmd->add_option("--background", args->background, "R,G,B background in [0, 1]")
       ->delimiter(',')
       ->expected(3)

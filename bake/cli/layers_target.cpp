@@ -8,6 +8,7 @@
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
+#include "bake/cli/photo_target.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/report.h"
 #include "bake/util/timing.h"
@@ -30,6 +31,7 @@ nlohmann::ordered_json layers_json(const std::vector<LayerStats>& stats) {
                       {"visible", s.visible},
                       {"blended", s.blended},
                       {"mean_alpha", s.mean_alpha}});
+    if (s.photos) layers.back()["photos_skipped"] = skipped_photos_json(s.skipped);
   }
   return layers;
 }
@@ -185,6 +187,7 @@ int run_layers_bake(const LayersJob& job) {
   options.occluded = job.occluded;
   options.occluded_color = job.occluded_color;
   options.cache_mb = job.cache_mb;
+  options.strict_photos = job.strict_photos;
   ProgressBar bar(!job.quiet && ProgressBar::stderr_is_terminal());
   RunOptions run;
   run.threads = job.threads;

@@ -23,6 +23,7 @@ struct LayersJob {
   int threads = 0;
   bool quiet = false;
   std::size_t cache_mb = kDefaultCacheMb;             // --cache-mb: the layers' textures and masks
+  bool strict_photos = false;                         // --strict-photos: "cameras" layers' photos
   std::function<void(const std::string&)> on_report;  // CliHooks::on_report (batch results)
 };
 

@@ -37,6 +37,29 @@ nlohmann::ordered_json cameras_json(const std::vector<PhotoCameraStats>& cameras
   return cams;
 }
 
+// A bake error about a photo (bake/photo/photo_view.h: "the photo of
+// camera ...", "no usable photo: ...") names the photo; other input errors
+// are the mesh's (report_mesh_error).
+int report_bake_error(const Error& error, const std::string& mesh) {
+  const std::string& m = error.message;
+  if (m.rfind("the photo of camera ", 0) == 0 || m.rfind("no usable photo", 0) == 0) {
+    return report_error(error);
+  }
+  return report_mesh_error(error, mesh);
+}
+
+}  // namespace
+
+nlohmann::ordered_json skipped_photos_json(const std::vector<SkippedPhoto>& skipped) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::array();
+  for (const SkippedPhoto& s : skipped) {
+    out.push_back({{"image", s.name}, {"path", s.path.string()}, {"reason", s.reason}});
+  }
+  return out;
+}
+
+namespace {
+
 // The report's "inputs": the cameras and photos folder, or for a camera
 // --proxy-file its file and --texture.
 nlohmann::ordered_json photo_inputs(const PhotoJob& job) {
@@ -51,6 +74,7 @@ nlohmann::ordered_json photo_inputs(const PhotoJob& job) {
   in["output"] = job.output;
   in["options"] = {{"blend", blend_name(job.flags.blend)},
                    {"exposure", job.flags.exposure == ExposureMode::kNone ? "none" : "gain"},
+                   {"strict_photos", job.flags.strict_photos},
                    {"threads", job.threads}};
   return in;
 }
@@ -76,6 +100,7 @@ std::string photo_atlas_report(const PhotoJob& job, const PhotoAtlas& baked, dou
                  {"padded", c.padded}};
   j["atlas"] = atlas_json(AtlasReport{job.atlas_options.bake, baked.atlas.uv}, st, write);
   j["cameras"] = cameras_json(baked.cameras);
+  j["photos_skipped"] = skipped_photos_json(baked.skipped);
   const Timings& t = st.timings;
   j["timings"] = {{"load", load},
                   {"uv_layout", t.uv_layout},
@@ -101,6 +126,7 @@ std::string photo_report(const PhotoJob& job, const PhotoColors& baked, double l
                  {"camera_samples", c.samples}, {"unseen", c.occluded},
                  {"filled", c.filled},          {"unfilled", c.unfilled}};
   j["cameras"] = cameras_json(baked.cameras);
+  j["photos_skipped"] = skipped_photos_json(baked.skipped);
   const Timings& t = baked.stats.timings;
   j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
                   {"photos", t.bake}, {"fill", t.fill},
@@ -127,6 +153,10 @@ void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
       cmd, "--exposure", flags.exposure,
       {{"gain", ExposureMode::kGain}, {"none", ExposureMode::kNone}},
       "--cameras: gain (one gain per photo and channel, least squares, default) or none");
+  cmd.add_flag("--strict-photos", flags.strict_photos,
+               "--cameras and --layers' \"cameras\": a photo that cannot be read (missing, "
+               "unreadable) is an error (default: a warning naming it; the photo is left out "
+               "and listed in the report's photos_skipped)");
 }
 
 namespace {
@@ -187,6 +217,7 @@ int run_photo_bake(const PhotoJob& job) {
   options.occluded = job.occluded;
   options.occluded_color = job.occluded_color;
   options.color_space = job.color_space;
+  options.strict_photos = job.flags.strict_photos;
   if (job.single) options.max_view_angle_deg = 90;
   ProgressBar bar(!job.quiet && ProgressBar::stderr_is_terminal());
   RunOptions run;
@@ -195,7 +226,7 @@ int run_photo_bake(const PhotoJob& job) {
   if (job.atlas) {
     Expected<PhotoAtlas> baked =
         bake_atlas_texture_from_photos(mesh->mesh, *photos, options, job.atlas_options, run);
-    if (!baked) return report_mesh_error(baked.error(), job.mesh);
+    if (!baked) return report_bake_error(baked.error(), job.mesh);
     for (const std::string& w : baked->atlas.stats.warnings) {
       std::cerr << "texbake: warning: " << w << "\n";
     }
@@ -215,14 +246,14 @@ int run_photo_bake(const PhotoJob& job) {
           "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu unseen, %zu padded) from %zu "
           "photos in %.2f s -> %s\n",
           job.atlas_options.bake.size, job.atlas_options.bake.size, to_string(baked->atlas.uv.used),
-          c.texels, c.samples, c.occluded, c.padded, photos->size(), seconds_since(start),
+          c.texels, c.samples, c.occluded, c.padded, baked->cameras.size(), seconds_since(start),
           written.c_str());
       std::fflush(stdout);
     }
     return 0;
   }
   Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh->mesh, *photos, options, run);
-  if (!baked) return report_mesh_error(baked.error(), job.mesh);
+  if (!baked) return report_bake_error(baked.error(), job.mesh);
   for (const std::string& w : baked->stats.warnings) std::cerr << "texbake: warning: " << w << "\n";
   stage = Clock::now();
   if (Status s = write_vertex_colors(output, mesh->mesh, baked->colors, job.write); !s) {
@@ -240,7 +271,8 @@ int run_photo_bake(const PhotoJob& job) {
     std::printf(
         "baked %zu vertices from %zu photos (%zu unseen, %zu filled, %zu unfilled) in "
         "%.2f s -> %s\n",
-        c.vertices, photos->size(), c.occluded, c.filled, c.unfilled, total, job.output.c_str());
+        c.vertices, baked->cameras.size(), c.occluded, c.filled, c.unfilled, total,
+        job.output.c_str());
     std::fflush(stdout);
   }
   return 0;

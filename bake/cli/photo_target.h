@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -20,9 +21,14 @@ struct PhotoFlags {
   std::string images;
   PhotoBlend blend = PhotoBlend::kSoft;
   std::optional<ExposureMode> exposure;  // default: gain (a single photo has none)
+  bool strict_photos = false;            // --strict-photos: an unreadable photo is an error
 };
 
-// Adds --cameras, --images, --blend and --exposure to `bake`.
+// The report's "photos_skipped": one {"image", "path", "reason"} per photo
+// left out because it cannot be read.
+nlohmann::ordered_json skipped_photos_json(const std::vector<SkippedPhoto>& skipped);
+
+// Adds --cameras, --images, --blend, --exposure and --strict-photos to `bake`.
 void add_photo_flags(CLI::App& cmd, PhotoFlags& flags);
 
 struct PhotoJob {

@@ -99,6 +99,9 @@ struct LayersBakeOptions {
   // mask, as the API reads them (texbake/texbake.h): past it they are read
   // in tiles through OpenImageIO's ImageCache (mesh_io/image_io.h); 0: decoded whole.
   std::size_t cache_mb = kDefaultCacheMb;
+  // A "cameras" layer's photo that cannot be read is left out with a
+  // warning (LayerStats::skipped); with strict_photos it is an error.
+  bool strict_photos = false;
 };
 
 struct LayerStats {
@@ -106,11 +109,12 @@ struct LayerStats {
   // Seconds spent on this layer: its share of the layers stage (by the
   // threads' time in it), plus for a "cameras" layer the photo bake.
   double seconds = 0;
-  bool photos = false;        // a "cameras" layer (name: its model or list)
-  std::size_t in_domain = 0;  // samples the projector maps inside its (u, v) domain
-  std::size_t visible = 0;    // of the mapped samples, those it sees
-  std::size_t blended = 0;    // samples with a > 0
-  double mean_alpha = 0;      // mean a over all samples
+  bool photos = false;                // a "cameras" layer (name: its model or list)
+  std::size_t in_domain = 0;          // samples the projector maps inside its (u, v) domain
+  std::size_t visible = 0;            // of the mapped samples, those it sees
+  std::size_t blended = 0;            // samples with a > 0
+  double mean_alpha = 0;              // mean a over all samples
+  std::vector<SkippedPhoto> skipped;  // a "cameras" layer: its photos left out
 };
 
 struct LayersBakeResult {

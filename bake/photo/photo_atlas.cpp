@@ -77,10 +77,10 @@ void for_each_seen(const std::vector<uint64_t>& bits, std::size_t begin, std::si
 }  // namespace
 
 Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
-                                                      const std::vector<Photo>& photos,
+                                                      const std::vector<Photo>& all_photos,
                                                       const PhotoAtlasBakeOptions& options,
                                                       const PhotoReader& reader) {
-  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
+  if (all_photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
   const bool constant_padding =
       options.padding == kPaddingDefault || options.padding == kPaddingInfinite;
   if (!constant_padding && (options.padding < 0 || options.padding > kMaxAtlasSize)) {
@@ -107,8 +107,20 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
 
   // 1. The vertex photo bake: the gains, and the per-vertex colours of the fill.
   t0 = Clock::now();
-  Expected<PhotoBakeResult> vertex = bake_vertex_from_photos(uv_mesh, photos, po, read);
+  Expected<PhotoBakeResult> vertex = bake_vertex_from_photos(uv_mesh, all_photos, po, read);
   if (!vertex) return vertex.error();
+  // The photos stage 1 could read (it left the others out, with warnings).
+  result.skipped = std::move(vertex->skipped);
+  std::vector<Photo> readable;
+  for (std::size_t p = 0, k = 0; p < all_photos.size(); ++p) {
+    if (k < result.skipped.size() && result.skipped[k].path == all_photos[p].path &&
+        result.skipped[k].name == all_photos[p].name) {
+      ++k;
+      continue;
+    }
+    if (!result.skipped.empty()) readable.push_back(all_photos[p]);
+  }
+  const std::vector<Photo>& photos = result.skipped.empty() ? all_photos : readable;
   result.cameras = std::move(vertex->cameras);
   result.warnings = std::move(vertex->warnings);
   result.vertices_seen = vertex->seen;
@@ -221,9 +233,13 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     const Photo& photo = photos[c];
     PhotoCameraStats scratch_stats;
     std::vector<std::string> scratch_warnings;  // the vertex bake gave them
+    bool unreadable = false;                    // read by stage 1 already: now an error
     Expected<PhotoImage> image =
-        photo_detail::load_photo(photo, read, scratch_stats, scratch_warnings);
-    if (!image) return image.error();
+        photo_detail::load_photo(photo, read, scratch_stats, scratch_warnings, unreadable);
+    if (!image) {
+      return unreadable ? photo_detail::unreadable_photo_error(photo, image.error())
+                        : image.error();
+    }
     const ImageView view{image->width, image->height, image->pixels.data()};
     const CameraLook look(photo.camera, po.max_view_angle_deg);
     const std::vector<uint64_t>& bits = seen_by[c];

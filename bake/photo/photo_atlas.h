@@ -85,6 +85,9 @@ struct PhotoAtlasBakeResult {
   // The vertex bake's figures (stage 1): vertices seen, filled, unfilled.
   std::size_t vertices_seen = 0, vertices_filled = 0, vertices_unfilled = 0;
   std::vector<std::string> warnings;
+  // Photos left out by stage 1 (unreadable; PhotoBakeOptions::strict_photos):
+  // `cameras` and the later stages have the others only.
+  std::vector<SkippedPhoto> skipped;
   // With options.photo.keep_points: the blend per vertex of uv_mesh (stage
   // 1) and per supersample (stages 3-5, before texels are averaged and any
   // fill), the samples in texel order: sample s belongs to the texel

@@ -97,7 +97,6 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   const PhotoReader read = reader ? reader : PhotoReader(photo_detail::read_photo_file);
   const std::size_t n = mesh.positions.size();
   PhotoBakeResult result;
-  result.cameras.resize(photos.size());
 
   auto start = Clock::now();
   Expected<EmbreeScene> scene = EmbreeScene::build(mesh, BuildQuality::kLow);
@@ -114,13 +113,29 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   std::vector<std::array<float, 3>> rgb(n);
   PhotoPoints& points = result.points;
   if (options.keep_points) points.state.assign(n, PhotoPoints::kNoView);
-  for (std::size_t c = 0; c < photos.size(); ++c) {
-    const Photo& photo = photos[c];
+  // The photos used (readable), in order: samples and stats are numbered
+  // by their place here.
+  std::vector<const Photo*> used;
+  for (std::size_t p = 0; p < photos.size(); ++p) {
+    const Photo& photo = photos[p];
     const CameraProjector& camera = photo.camera;
-    PhotoCameraStats& stats = result.cameras[c];
-    stats.name = photo.name;
-    Expected<PhotoImage> image = photo_detail::load_photo(photo, read, stats, result.warnings);
-    if (!image) return image.error();
+    PhotoCameraStats loaded;
+    loaded.name = photo.name;
+    bool unreadable = false;
+    Expected<PhotoImage> image =
+        photo_detail::load_photo(photo, read, loaded, result.warnings, unreadable);
+    if (!image && unreadable && !options.strict_photos) {
+      photo_detail::skip_photo(photo, image.error(), result.skipped, result.warnings);
+      continue;
+    }
+    if (!image) {
+      return unreadable ? photo_detail::unreadable_photo_error(photo, image.error())
+                        : image.error();
+    }
+    const std::size_t c = used.size();
+    used.push_back(&photo);
+    result.cameras.push_back(std::move(loaded));
+    PhotoCameraStats& stats = result.cameras.back();
     const ImageView view{image->width, image->height, image->pixels.data()};
     const CameraLook look(camera, options.max_view_angle_deg);
     const Vec3 centre = look.centre();
@@ -176,6 +191,9 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   quality = {};
   rgb = {};
   result.seconds_photos = seconds_since(start);
+  if (used.empty()) return photo_detail::no_usable_photo_error(result.skipped);
+  const std::size_t cameras = used.size();
+  seen_by.resize(cameras);
 
   // Per-vertex lists of samples, cameras in order (a counting sort).
   start = Clock::now();
@@ -194,15 +212,15 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   }
 
   // Exposure gains.
-  std::vector<std::array<double, 3>> gains(photos.size(), {1, 1, 1});
-  if (options.exposure == ExposureMode::kGain && photos.size() > 1) {
+  std::vector<std::array<double, 3>> gains(cameras, {1, 1, 1});
+  if (options.exposure == ExposureMode::kGain && cameras > 1) {
     for (int ch = 0; ch < 3; ++ch) {
-      Expected<std::vector<double>> g = solve_gains(first, samples, photos.size(), ch);
+      Expected<std::vector<double>> g = solve_gains(first, samples, cameras, ch);
       if (!g) return g.error();
-      for (std::size_t c = 0; c < photos.size(); ++c) gains[c][ch] = (*g)[c];
+      for (std::size_t c = 0; c < cameras; ++c) gains[c][ch] = (*g)[c];
     }
   }
-  for (std::size_t c = 0; c < photos.size(); ++c) result.cameras[c].gain = gains[c];
+  for (std::size_t c = 0; c < cameras; ++c) result.cameras[c].gain = gains[c];
 
   // Blend per vertex, in linear light.
   std::vector<Rgba> colors(n, Rgba{0, 0, 0, 1});
@@ -212,7 +230,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     points.cosine.assign(n, 1.f);
   }
   std::vector<std::vector<double>> share_chunk(block_count(n, kGrain),
-                                               std::vector<double>(photos.size(), 0.0));
+                                               std::vector<double>(cameras, 0.0));
   parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
     std::vector<double>& share = share_chunk[block];
     std::vector<double> weight;
@@ -248,7 +266,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
         double cosine = 0;
         for (uint32_t i = s0; i < s1; ++i) {
-          const Vec3 d = normalize(photos[samples[i].camera].camera.centre() - p);
+          const Vec3 d = normalize(used[samples[i].camera]->camera.centre() - p);
           cosine += weight[i - s0] * dot(nrm, d) / length(nrm);
         }
         points.state[v] = PhotoPoints::kSeen;
@@ -258,11 +276,11 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     }
   });
   result.seen = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 0));
-  std::vector<double> share(photos.size(), 0.0);
+  std::vector<double> share(cameras, 0.0);
   for (const auto& s : share_chunk) {
-    for (std::size_t c = 0; c < photos.size(); ++c) share[c] += s[c];
+    for (std::size_t c = 0; c < cameras; ++c) share[c] += s[c];
   }
-  for (std::size_t c = 0; c < photos.size(); ++c) {
+  for (std::size_t c = 0; c < cameras; ++c) {
     result.cameras[c].weight_share = result.seen ? share[c] / static_cast<double>(result.seen) : 0;
   }
   result.seconds_blend = seconds_since(start);

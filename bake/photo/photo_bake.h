@@ -73,6 +73,17 @@ struct PhotoBakeOptions {
   // Keep the blend per point (PhotoPoints below: a "cameras" layer,
   // bake/layers/layers_bake.h, composites it instead of the colours).
   bool keep_points = false;
+  // A photo that cannot be read (missing, unreadable, not an image: its
+  // reader's error) is left out with a warning and listed in `skipped`
+  // (SPEC section 9); with strict_photos it is an error (--strict-photos).
+  bool strict_photos = false;
+};
+
+// A photo left out of a bake because it cannot be read.
+struct SkippedPhoto {
+  std::string name;            // Photo::name
+  std::filesystem::path path;  // Photo::path
+  std::string reason;          // the reader's error
 };
 
 // The blend of every point (vertex, or atlas supersample) before any fill,
@@ -110,6 +121,9 @@ struct PhotoBakeResult {
   std::size_t filled = 0;    // unseen vertices coloured by the fill
   std::size_t unfilled = 0;  // unseen vertices in components no photo sees
   std::vector<std::string> warnings;
+  // Photos left out (unreadable), in photo order; `cameras` has the others'
+  // entries only, in photo order.
+  std::vector<SkippedPhoto> skipped;
   PhotoPoints points;  // per vertex, with PhotoBakeOptions::keep_points (else empty)
   double seconds_scene = 0, seconds_photos = 0, seconds_blend = 0, seconds_fill = 0;
 };
@@ -124,11 +138,14 @@ struct PhotoImage {
 };
 using PhotoReader = std::function<Expected<PhotoImage>(const Photo& photo)>;
 
-// Errors: a photo that cannot be read (its reader's error), a photo whose
-// size is neither the camera's nor of the same aspect (kParse, naming the
-// photo and both sizes), no photos (kInvalidArgument), kInternal (Embree or
-// the fill). A photo of the same aspect and another size is used with the
-// camera's (u, v) (which do not depend on the resolution) and a warning.
+// Errors: a photo that cannot be read with options.strict_photos ("the
+// photo of camera NAME: " and its reader's error; else it is left out with
+// a warning), every photo left out (kIo "no usable photo: ..."), a photo
+// whose size is neither the camera's nor of the same aspect (kParse, naming
+// the photo and both sizes), no photos (kInvalidArgument), kInternal
+// (Embree or the fill). A reader's kCancelled is returned as is. A photo of the same aspect and
+// another size is used with the camera's (u, v) (which do not depend on the resolution) and a
+// warning.
 Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
                                                   const std::vector<Photo>& photos,
                                                   const PhotoBakeOptions& options,

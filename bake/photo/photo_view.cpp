@@ -38,10 +38,35 @@ Status check_photo_size(const Photo& photo, const PhotoImage& image, bool& scale
 
 }  // namespace
 
+Error unreadable_photo_error(const Photo& photo, const Error& read) {
+  return make_error(read.code, "the photo of camera " + photo.name + ": " + read.message);
+}
+
+Error no_usable_photo_error(const std::vector<SkippedPhoto>& skipped) {
+  const std::string first = skipped.empty() ? std::string() : skipped.front().reason;
+  if (skipped.size() == 1) {
+    return make_error(ErrorCode::kIo,
+                      "no usable photo: the only photo cannot be read (" + first + ")");
+  }
+  return make_error(ErrorCode::kIo, "no usable photo: all " + std::to_string(skipped.size()) +
+                                        " photos cannot be read (the first: " + first + ")");
+}
+
+void skip_photo(const Photo& photo, const Error& read, std::vector<SkippedPhoto>& skipped,
+                std::vector<std::string>& warnings) {
+  skipped.push_back({photo.name, photo.path, read.message});
+  warnings.push_back("the photo of camera " + photo.name + " is left out: " + read.message);
+}
+
 Expected<PhotoImage> load_photo(const Photo& photo, const PhotoReader& read,
-                                PhotoCameraStats& stats, std::vector<std::string>& warnings) {
+                                PhotoCameraStats& stats, std::vector<std::string>& warnings,
+                                bool& unreadable) {
+  unreadable = false;
   Expected<PhotoImage> image = read(photo);
-  if (!image) return image.error();
+  if (!image) {
+    unreadable = image.error().code != ErrorCode::kCancelled;
+    return image.error();
+  }
   if (Status s = check_photo_size(photo, *image, stats.scaled); !s) return s.error();
   stats.photo_width = image->width, stats.photo_height = image->height;
   const CameraProjector& camera = photo.camera;

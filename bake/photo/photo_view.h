@@ -26,9 +26,20 @@ Expected<PhotoImage> read_photo_file(const Photo& photo);
 // at another size: then stats.scaled and a warning), records its size in
 // `stats` and linearises an sRGB photo in place (so that bilinear
 // interpolation happens in linear light too; a linear photo is used as is).
-// Errors: the reader's; kParse for a size of another aspect.
+// Errors: the reader's (then `unreadable` is set, unless it is kCancelled);
+// kParse for a size of another aspect.
 Expected<PhotoImage> load_photo(const Photo& photo, const PhotoReader& read,
-                                PhotoCameraStats& stats, std::vector<std::string>& warnings);
+                                PhotoCameraStats& stats, std::vector<std::string>& warnings,
+                                bool& unreadable);
+
+// The error of an unreadable photo under PhotoBakeOptions::strict_photos.
+Error unreadable_photo_error(const Photo& photo, const Error& read);
+// The error when every photo was left out: kIo naming the count and the
+// first one's reason.
+Error no_usable_photo_error(const std::vector<SkippedPhoto>& skipped);
+// Leaves `photo` out: its SkippedPhoto in `skipped` and a warning.
+void skip_photo(const Photo& photo, const Error& read, std::vector<SkippedPhoto>& skipped,
+                std::vector<std::string>& warnings);
 
 // 0 at the photo's edge, 1 from kBorderFraction * min(W, H) inside on.
 double border_weight(Vec2 pixel, int w, int h);

@@ -727,9 +727,10 @@ PYBIND11_MODULE(_texbake, m) {
   m.def("bake_vertex_from_photos", [](const LoadedMesh& mesh, const std::filesystem::path& cameras,
                                       const std::filesystem::path& images, const std::string& blend,
                                       const std::string& exposure, py::object occluded,
-                                      const std::string& colorspace, int threads,
-                                      py::object progress) {
+                                      const std::string& colorspace, bool strict_photos,
+                                      int threads, py::object progress) {
     PhotoBakeOptions o;
+    o.strict_photos = strict_photos;
     o.blend = choice<PhotoBlend>(
         blend, "blend",
         {{"soft", PhotoBlend::kSoft}, {"best", PhotoBlend::kBest}, {"mean", PhotoBlend::kMean}});
@@ -756,7 +757,17 @@ PYBIND11_MODULE(_texbake, m) {
       d["gain"] = py::make_tuple(c.gain[0], c.gain[1], c.gain[2]);
       per_camera.append(d);
     }
-    return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats), per_camera);
+    py::dict stats = stats_dict(baked.stats);
+    py::list skipped;
+    for (const SkippedPhoto& k : baked.skipped) {
+      py::dict d;
+      d["image"] = k.name;
+      d["path"] = k.path.string();
+      d["reason"] = k.reason;
+      skipped.append(d);
+    }
+    stats["photos_skipped"] = skipped;
+    return py::make_tuple(colors_array(baked.colors), stats, per_camera);
   });
 
   m.def("bake_vertex_from_layers", [](const LoadedMesh& mesh, const std::filesystem::path& layers,

@@ -61,8 +61,9 @@ Expected<std::vector<std::vector<Photo>>> read_layer_cameras(const LayersSpec& s
 }
 
 // The photo bake of a "cameras" layer: its blend per point, not filled.
-PhotoBakeOptions layer_photo_options() {
+PhotoBakeOptions layer_photo_options(bool strict_photos) {
   PhotoBakeOptions o;
+  o.strict_photos = strict_photos;
   o.keep_points = true;
   o.occluded = OccludedMode::kColor;  // unseen points are transparent: no fill needed
   return o;
@@ -79,7 +80,13 @@ Status bake_layer_photos(const std::vector<std::vector<Photo>>& photos, Progress
     if (photos[i].empty()) continue;
     if (progress.cancelled()) return cancelled_error();
     const auto start = Clock::now();
-    if (Status s = bake(i, photos[i], blends[i]); !s) return detail::as_input(s.error());
+    if (Status s = bake(i, photos[i], blends[i]); !s) {
+      Error e = detail::as_input(s.error());
+      if (e.code != ErrorCode::kCancelled) {
+        e.message = "layers[" + std::to_string(i) + "]: " + e.message;
+      }
+      return e;
+    }
     inputs[i].photos = &blends[i];
     seconds[i] = seconds_since(start);
   }
@@ -169,13 +176,15 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     // "cameras" layers: the photo bake's blend per vertex.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);
+    std::vector<std::vector<SkippedPhoto>> skipped(spec.layers.size());
     if (Status s = bake_layer_photos(
             *photos, progress, *inputs, blends, photo_seconds,
             [&](std::size_t i, const std::vector<Photo>& p, PhotoLayerPoints& b) -> Status {
               Expected<PhotoBakeResult> blend =
-                  bake_vertex_from_photos(mesh, p, layer_photo_options());
+                  bake_vertex_from_photos(mesh, p, layer_photo_options(options.strict_photos));
               if (!blend) return blend.error();
               add_photo_warnings(i, blend->warnings, out.stats.warnings);
+              skipped[i] = std::move(blend->skipped);
               b.vertices = std::move(blend->points);
               return ok_status();
             });
@@ -188,7 +197,10 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     progress.finish();
     out.colors = std::move(baked->colors);
     out.layers = std::move(baked->layers);
-    for (std::size_t i = 0; i < out.layers.size(); ++i) out.layers[i].seconds += photo_seconds[i];
+    for (std::size_t i = 0; i < out.layers.size(); ++i) {
+      out.layers[i].seconds += photo_seconds[i];
+      out.layers[i].skipped = std::move(skipped[i]);
+    }
     Counts& c = out.stats.counts;
     c = detail::mesh_counts(mesh);
     c.samples = mesh.positions.size() * spec.layers.size();
@@ -258,6 +270,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     // "cameras" layers: the photo atlas bake's blend per vertex and sample.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);
+    std::vector<std::vector<SkippedPhoto>> skipped(spec.layers.size());
     if (Status s = bake_layer_photos(
             *photos, progress, *inputs, blends, photo_seconds,
             [&](std::size_t i, const std::vector<Photo>& p, PhotoLayerPoints& b) -> Status {
@@ -265,10 +278,11 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
               po.size = resolved.bake.size;
               po.samples = resolved.bake.samples;
               po.padding = 0;
-              po.photo = layer_photo_options();
+              po.photo = layer_photo_options(options.strict_photos);
               Expected<PhotoAtlasBakeResult> blend = bake_atlas_from_photos(out.atlas.mesh, p, po);
               if (!blend) return blend.error();
               add_photo_warnings(i, blend->warnings, out.atlas.stats.warnings);
+              skipped[i] = std::move(blend->skipped);
               b.vertices = std::move(blend->vertex_points);
               b.samples = std::move(blend->sample_points);
               b.texel_first.assign(static_cast<std::size_t>(po.size) * po.size,
@@ -298,7 +312,10 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     out.atlas.image = std::move(baked->atlas);
     out.atlas.blend = !baked->opaque;
     out.layers = std::move(baked->layers);
-    for (std::size_t i = 0; i < out.layers.size(); ++i) out.layers[i].seconds += photo_seconds[i];
+    for (std::size_t i = 0; i < out.layers.size(); ++i) {
+      out.layers[i].seconds += photo_seconds[i];
+      out.layers[i].skipped = std::move(skipped[i]);
+    }
     Counts& c = out.atlas.stats.counts;
     c = detail::mesh_counts(mesh);
     c.texels = baked->texels;

@@ -10,7 +10,6 @@
 #include "bake/util/timing.h"
 #include "mesh_io/camera_json.h"
 #include "mesh_io/colmap_model.h"
-#include "mesh_io/regular_file.h"
 #include "texbake/texbake.h"
 
 namespace texbake {
@@ -48,7 +47,8 @@ PhotoReader progress_reader(Progress& progress, std::size_t& done, TextureColorS
 
 }  // namespace
 
-Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::path& images) {
+Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::path& images,
+                                          PhotoFolder need) {
   std::error_code ec;
   std::vector<Photo> photos;
   fs::path folder = images;
@@ -57,7 +57,7 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
     if (!model) return model.error();
     if (folder.empty()) {
       folder = workspace_images(cameras);
-      if (folder.empty()) {
+      if (folder.empty() && need == PhotoFolder::kNeeded) {
         return make_error(ErrorCode::kInvalidArgument,
                           "--cameras " + cameras.string() +
                               " is not inside a COLMAP workspace's sparse/ folder: give the "
@@ -77,12 +77,8 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
       photos.push_back({entry.image, std::move(entry.camera), path});
     }
   }
-  for (const Photo& photo : photos) {
-    if (Status s = check_regular_file(photo.path, "a photo"); !s) {
-      return make_error(ErrorCode::kIo,
-                        "the photo of camera " + photo.name + ": " + s.error().message);
-    }
-  }
+  // The photos themselves are read by the bakes, which leave out those
+  // that cannot be read (PhotoBakeOptions::strict_photos).
   return photos;
 }
 
@@ -114,6 +110,7 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
     c.filled = baked->filled;
     c.unfilled = baked->unfilled;
     out.stats.warnings = std::move(baked->warnings);
+    out.skipped = std::move(baked->skipped);
     Timings& t = out.stats.timings;
     t.scene_build = baked->seconds_scene;
     t.bake = baked->seconds_photos;
@@ -159,6 +156,7 @@ Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
     if (progress.cancelled()) return cancelled_error();
     out.atlas.image = std::move(baked->atlas);
     out.cameras = std::move(baked->cameras);
+    out.skipped = std::move(baked->skipped);
     Stats& st = out.atlas.stats;
     for (std::string& w : baked->warnings) st.warnings.push_back(std::move(w));
     Counts& c = st.counts;

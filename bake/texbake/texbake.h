@@ -221,28 +221,40 @@ Status validate_options(const VertexBakeOptions& options);
 
 // ---- Photographs (SPEC section 9) -----------------------------------------
 
+// Whether read_cameras must find the photos' folder: kNeeded for a bake;
+// kNotNeeded for what needs only the poses and photo sizes, which the model
+// holds (texbake cameras check): Photo::path is then the image name as
+// stored when no folder is found.
+enum class PhotoFolder { kNeeded, kNotNeeded };
+
 // The cameras of `cameras` with their photos: a COLMAP sparse model folder
 // (cameras.txt + images.txt or the .bin pair, mesh_io/colmap_model.h) or a
 // JSON camera list (mesh_io/camera_json.h). Photos are looked up in
 // `images` when given; otherwise, for a COLMAP model, in the `images` folder
 // of the workspace whose `sparse/` holds the model (COLMAP's layout:
-// W/sparse/0 -> W/images), and for a JSON list beside the list. Only the
-// photos' existence is checked here; they are read one at a time by the
-// bake. Errors: kInput (the model or list, a missing photo, naming it and
-// the folder), kUsage (no images folder can be found: give one).
+// W/sparse/0 -> W/images), and for a JSON list beside the list. The photos
+// are not opened here: the bakes read them one at a time, and leave out
+// those that cannot be read (PhotoBakeOptions::strict_photos). Errors:
+// kInput (the model or list), kUsage (kNeeded and no images folder can be
+// found: give one).
 Expected<std::vector<Photo>> read_cameras(const std::filesystem::path& cameras,
-                                          const std::filesystem::path& images = {});
+                                          const std::filesystem::path& images = {},
+                                          PhotoFolder need = PhotoFolder::kNeeded);
 
 struct PhotoColors {
   std::vector<Rgba> colors;               // one per vertex, sRGB-encoded RGBA in [0, 1]
-  std::vector<PhotoCameraStats> cameras;  // per photo: in view, visible, weight, gains
+  std::vector<PhotoCameraStats> cameras;  // per photo used: in view, visible, weight, gains
+  std::vector<SkippedPhoto> skipped;      // photos left out (cannot be read; also warnings)
   Stats stats;  // counts.vertices, samples (camera samples blended), filled, unfilled;
                 // timings.scene_build, bake (photos), fill (blend and fill), total
 };
 
-// Vertex colours from photos (the contract of bake/photo/photo_bake.h).
-// Errors: kInput (a photo unreadable or of the wrong size, a mesh with no
-// non-degenerate triangle), kUsage (no photos), kInternal. Progress stage:
+// Vertex colours from photos (the contract of bake/photo/photo_bake.h). A
+// photo that cannot be read is left out with a warning (stats.warnings) and
+// listed in `skipped`, unless options.strict_photos. Errors: kInput (a photo
+// unreadable under strict_photos, no photo readable, a photo of the wrong
+// size, a mesh with no non-degenerate triangle), kUsage (no photos),
+// kInternal. Progress stage:
 // "photos" (per photo).
 Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
                                                      const std::vector<Photo>& photos,
@@ -383,6 +395,7 @@ struct PhotoAtlas {
   // Per photo, over the atlas samples: in_view, visible, weight_share; the
   // exposure gains (solved on the vertices, see bake/photo/photo_atlas.h).
   std::vector<PhotoCameraStats> cameras;
+  std::vector<SkippedPhoto> skipped;  // photos left out (cannot be read; also warnings)
   // atlas.stats: counts.texels, samples (atlas supersamples), occluded
   // (samples no photo sees), filled (of those, coloured by the fill),
   // unfilled (vertices in components no photo sees), border_samples,
@@ -398,9 +411,11 @@ struct PhotoAtlas {
 // the vertex bake's quality, blend and exposure rules, unseen samples as
 // options.occluded says, then atlas.bake.padding. atlas.bake.shading is not
 // used (options holds the photo bake's occluded rule). Photos are read one
-// at a time, twice each. Errors: kUsage (atlas options out of range, --uv
-// proxy, kMesh on a mesh without UVs, no photos), kInput (a photo
-// unreadable or of the wrong size, a mesh with no non-degenerate triangle
+// at a time, twice each; one that cannot be read is left out as for
+// bake_vertex_colors_from_photos. Errors: kUsage (atlas options out of
+// range, --uv proxy, kMesh on a mesh without UVs, no photos), kInput (a
+// photo unreadable under strict_photos, no photo readable, a photo of the
+// wrong size, a mesh with no non-degenerate triangle
 // or that the layout cannot chart), kInternal, kCancelled. Progress
 // stages: "uv_layout", "photos" (per photo read: two per photo).
 Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,

@@ -276,7 +276,7 @@ TEST_F(CameraProxyPhotos, TruncatedBinaryModelAndSkewRotationAreErrorsWithNoOutp
   EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "bin.ply"));
 
-  // A JSON camera list whose R is skewed by 1e-3: not orthonormal within 1e-6.
+  // A JSON camera list whose R is skewed by 1e-3: not orthonormal within 1e-5.
   nlohmann::json cam = nlohmann::json::parse(testing_cli::slurp(d / "view_00.json"));
   cam["pose"]["R"][0][1] = cam["pose"]["R"][0][1].get<double>() + 1e-3;
   cam["image"] = "view_00.png";

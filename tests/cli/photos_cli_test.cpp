@@ -7,10 +7,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "mesh_io/atomic_file.h"
 #include "mesh_io/colmap_model.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
@@ -277,14 +280,25 @@ TEST_F(PhotosCli, BadInputsAreErrorsWithNoOutput) {
   const std::string cams = testing_cli::slurp(d / "ws/sparse/0/cameras.txt");
   std::string unknown_id = images;
   unknown_id.replace(unknown_id.find(" 1 view_00.png"), 14, " 7 view_00.png");
-  std::string missing_photo = images;
-  missing_photo.replace(missing_photo.find("view_03.png"), 11, "view_99.png");
+  // One line per image: the POINTS2D lines (empty here) left out. The
+  // first image is on line 5 (after the writer's four comment lines).
+  std::string one_line = images;
+  for (std::size_t at; (at = one_line.find("\n\n")) != std::string::npos;) one_line.erase(at, 1);
+  ASSERT_EQ(one_line.find("\n1 "), one_line.find("# Number of images: 6\n") + 21);
   const std::vector<Case> cases = {
       {"1 FISHEYE 640 480 1 2 3\n", images, "cameras.txt line 1: unknown camera model FISHEYE", 1},
       {"1 PINHOLE 640 480 500 500 320\n", images,
        "cameras.txt line 1: PINHOLE takes 4 parameters, got 3", 1},
       {cams, unknown_id, "names camera id 7, which cameras.txt does not define", 1},
-      {cams, missing_photo, "the photo of camera view_99.png:", 1},
+      // Bad intrinsics: the camera's line and id, not the first image using it.
+      {"1 PINHOLE 640 480 0 500 320 240\n", images,
+       "cameras.txt line 1: camera id 1: PINHOLE: the focal length must be positive (got 0)", 1},
+      {"1 PINHOLE 640 480 500 500 320 -inf\n", images,
+       "cameras.txt line 1: camera id 1: a camera parameter is not a finite number (-inf)", 1},
+      {cams, one_line,
+       "images.txt line 6: expected the 2D points of the image on line 5 (X Y POINT3D_ID "
+       "triples, possibly none): COLMAP's images.txt has two lines per image",
+       1},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const fs::path model = d / ("bad" + std::to_string(i)) / "sparse" / "0";
@@ -317,6 +331,202 @@ TEST_F(PhotosCli, BadInputsAreErrorsWithNoOutput) {
                   q(kData + "/earth.jpg") + " -o " + q(d / "mix.ply"));
   EXPECT_EQ(mix.exit_code, 2);
   EXPECT_NE(mix.err.find("--texture does not apply to --cameras"), std::string::npos) << mix.err;
+}
+
+// The workspace's model with image `name` renamed to `to` (a missing photo).
+void model_renaming(const fs::path& d, const std::string& name, const std::string& to,
+                    const fs::path& folder) {
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(d / "ws/sparse/0");
+  ASSERT_TRUE(model);
+  for (ColmapImage& i : *model) {
+    if (i.name == name) i.name = to;
+  }
+  ASSERT_TRUE(write_colmap_model(folder, *model, /*binary=*/false));
+}
+
+TEST_F(PhotosCli, AnUnreadablePhotoIsLeftOutWithAWarningAndReported) {
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  // view_03.png missing (the model names view_99.png), and view_01.png's
+  // file not an image, in a copy of the photos.
+  fs::create_directories(d / "gaps/images");
+  for (int k = 0; k < 6; ++k) {
+    const std::string name = "view_0" + std::to_string(k) + ".png";
+    if (k == 1) {
+      std::ofstream(d / "gaps/images" / name) << "not a PNG";
+    } else {
+      fs::copy_file(d / "ws/images" / name, d / "gaps/images" / name,
+                    fs::copy_options::overwrite_existing);
+    }
+  }
+  model_renaming(d, "view_03.png", "view_99.png", d / "gaps/sparse/0");
+  // The expected result: the model without those two images.
+  {
+    Expected<std::vector<ColmapImage>> model = read_colmap_model(d / "ws/sparse/0");
+    ASSERT_TRUE(model);
+    std::erase_if(*model, [](const ColmapImage& i) {
+      return i.name == "view_01.png" || i.name == "view_03.png";
+    });
+    ASSERT_TRUE(write_colmap_model(d / "four/sparse/0", *model, /*binary=*/false));
+  }
+  const std::string images = " --images " + q(d / "gaps/images");
+  for (const std::string target : {"vertex", "atlas"}) {
+    const std::string ext = target == "vertex" ? ".ply" : ".glb";
+    const std::string atlas = target == "atlas" ? " --size 256" : "";
+    testing_cli::RunResult r = run_texbake(
+        "bake " + bunny + " --cameras " + q(d / "gaps/sparse/0") + images + atlas + " --report " +
+        q(d / ("gaps_" + target + ".json")) + " -o " + q(d / ("gaps" + ext)));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string path99 = (d / "gaps/images/view_99.png").string();
+    EXPECT_NE(r.err.find("texbake: warning: the photo of camera view_99.png is left out: " +
+                         path99 + ": no such file\n"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("texbake: warning: the photo of camera view_01.png is left out: " +
+                         (d / "gaps/images/view_01.png").string()),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.out.find("from 4 photos"), std::string::npos) << r.out;
+    const nlohmann::json report =
+        nlohmann::json::parse(testing_cli::slurp(d / ("gaps_" + target + ".json")));
+    ASSERT_EQ(report["photos_skipped"].size(), 2u) << report.dump(1);
+    EXPECT_EQ(report["photos_skipped"][0]["image"], "view_01.png");
+    EXPECT_EQ(report["photos_skipped"][1]["image"], "view_99.png");
+    EXPECT_EQ(report["photos_skipped"][1]["path"], path99);
+    EXPECT_EQ(report["photos_skipped"][1]["reason"], path99 + ": no such file");
+    EXPECT_EQ(report["cameras"].size(), 4u);
+    // The same bytes as the model without those photos.
+    r = run_texbake("bake " + bunny + " --cameras " + q(d / "four/sparse/0") + " --images " +
+                    q(d / "ws/images") + atlas + " -q -o " + q(d / ("four" + ext)));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(testing_cli::slurp(d / ("gaps" + ext)), testing_cli::slurp(d / ("four" + ext)))
+        << target;
+    // --strict-photos: the first unreadable photo is an error, no output.
+    r = run_texbake("bake " + bunny + " --cameras " + q(d / "gaps/sparse/0") + images + atlas +
+                    " --strict-photos -o " + q(d / ("strict" + ext)));
+    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_NE(r.err.find("texbake: error: the photo of camera view_01.png: " +
+                         (d / "gaps/images/view_01.png").string()),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / ("strict" + ext)));
+  }
+  // No usable photo left: an error naming the count and the first reason.
+  fs::create_directories(d / "no_photos");
+  const testing_cli::RunResult none =
+      run_texbake("bake " + bunny + " --cameras " + q(d / "ws/sparse/0") + " --images " +
+                  q(d / "no_photos") + " -o " + q(d / "none.ply"));
+  EXPECT_EQ(none.exit_code, 1) << none.err;
+  EXPECT_NE(none.err.find("texbake: error: no usable photo: all 6 photos cannot be read (the "
+                          "first: " +
+                          (d / "no_photos/view_00.png").string() + ": no such file)"),
+            std::string::npos)
+      << none.err;
+  EXPECT_FALSE(fs::exists(d / "none.ply"));
+  // --strict-photos without photos to bake is a usage error.
+  const testing_cli::RunResult usage =
+      run_texbake("bake " + bunny + " --texture " + q(kData + "/earth.jpg") + " --proxy-file " +
+                  q(d / "s.json") + " --strict-photos -o " + q(d / "usage.ply"));
+  EXPECT_EQ(usage.exit_code, 2) << usage.err;
+  EXPECT_NE(usage.err.find("--strict-photos applies to --cameras and --layers only"),
+            std::string::npos)
+      << usage.err;
+}
+
+TEST_F(PhotosCli, ACamerasLayerLeavesOutAnUnreadablePhoto) {
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  model_renaming(d, "view_02.png", "view_42.png", d / "layer/sparse/0");
+  nlohmann::json layers = {
+      {"base", "none"},
+      {"layers",
+       {{{"cameras", (d / "layer/sparse/0").string()}, {"images", (d / "ws/images").string()}}}}};
+  std::ofstream(d / "layers.json") << layers.dump();
+  testing_cli::RunResult r =
+      run_texbake("bake " + bunny + " --layers " + q(d / "layers.json") + " --report " +
+                  q(d / "layers_r.json") + " -o " + q(d / "layers.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("texbake: warning: layers[0]: the photo of camera view_42.png is left "
+                       "out: " +
+                       (d / "ws/images/view_42.png").string() + ": no such file"),
+            std::string::npos)
+      << r.err;
+  const nlohmann::json report = nlohmann::json::parse(testing_cli::slurp(d / "layers_r.json"));
+  ASSERT_EQ(report["layers"][0]["photos_skipped"].size(), 1u) << report.dump(1);
+  EXPECT_EQ(report["layers"][0]["photos_skipped"][0]["image"], "view_42.png");
+  r = run_texbake("bake " + bunny + " --layers " + q(d / "layers.json") + " --strict-photos -o " +
+                  q(d / "layers_strict.ply"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  // (A layers bake's input errors are prefixed by the mesh's name.)
+  EXPECT_NE(r.err.find("texbake: error: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(": layers[0]: the photo of camera view_42.png: " +
+                       (d / "ws/images/view_42.png").string() + ": no such file\n"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(d / "layers_strict.ply"));
+}
+
+TEST_F(PhotosCli, CamerasCheckNeedsNoPhotos) {
+  // A model outside any workspace, no --images: the check needs only the
+  // poses and sizes (it demanded --images before).
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  fs::create_directories(d / "loose");
+  for (const char* f : {"cameras.txt", "images.txt"}) {
+    fs::copy_file(d / "ws/sparse/0" / f, d / "loose" / f, fs::copy_options::overwrite_existing);
+  }
+  const testing_cli::RunResult loose =
+      run_texbake("cameras check " + bunny + " --cameras " + q(d / "loose") + " --json");
+  ASSERT_EQ(loose.exit_code, 0) << loose.err;
+  const testing_cli::RunResult ws =
+      run_texbake("cameras check " + bunny + " --cameras " + q(d / "ws/sparse/0") + " --json");
+  ASSERT_EQ(ws.exit_code, 0) << ws.err;
+  EXPECT_EQ(loose.out, ws.out);
+  EXPECT_EQ(nlohmann::json::parse(loose.out).size(), 6u);
+  // A bake from the same folder still needs the photos' folder (exit 2).
+  const testing_cli::RunResult bake =
+      run_texbake("bake " + bunny + " --cameras " + q(d / "loose") + " -o " + q(d / "l.ply"));
+  EXPECT_EQ(bake.exit_code, 2) << bake.err;
+  EXPECT_NE(bake.err.find("give the photos' folder with --images"), std::string::npos) << bake.err;
+}
+
+TEST_F(PhotosCli, RenderColmapReplacesABinaryModelAndWritesAllOrNothing) {
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  // A workspace holding a stale binary model of 6 views: rendering 2 views
+  // over it replaces it (before: text files beside it, the binary model read).
+  const fs::path bin = binary_model(d);
+  fs::create_directories(d / "ws2/sparse/0");
+  for (const char* f : {"cameras.bin", "images.bin"}) {
+    fs::copy_file(bin / f, d / "ws2/sparse/0" / f, fs::copy_options::overwrite_existing);
+  }
+  std::ofstream(d / "ws2/sparse/0/points3D.bin", std::ios::binary) << std::string(8, '\0');
+  const std::string render = "render " + bunny + " --views 2 --size 64x48 --colmap ";
+  testing_cli::RunResult r = run_texbake(render + q(d / "ws2"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* gone : {"cameras.bin", "images.bin", "points3D.bin"}) {
+    EXPECT_FALSE(fs::exists(d / "ws2/sparse/0" / gone)) << gone;
+  }
+  for (const char* made : {"cameras.txt", "images.txt", "points3D.txt"}) {
+    EXPECT_TRUE(fs::exists(d / "ws2/sparse/0" / made)) << made;
+  }
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(d / "ws2/sparse/0");
+  ASSERT_TRUE(model) << model.error().message;
+  EXPECT_EQ(model->size(), 2u);
+  EXPECT_EQ((*model)[0].camera.spec().width, 64);
+  // The model cannot be written (images.txt is a folder): nothing is, no
+  // view, no cameras.txt, no temporary; exit 1 naming the file.
+  fs::create_directories(d / "ws3/sparse/0/images.txt");
+  r = run_texbake(render + q(d / "ws3"));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("texbake: error: cannot write " + (d / "ws3/sparse/0/images.txt").string() +
+                       ": it is a folder"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(d / "ws3/images/view_00.png"));
+  EXPECT_FALSE(fs::exists(d / "ws3/sparse/0/cameras.txt"));
+  EXPECT_TRUE(list_texbake_temporaries(d / "ws3/images").empty());
+  EXPECT_TRUE(list_texbake_temporaries(d / "ws3/sparse/0").empty());
 }
 
 }  // namespace

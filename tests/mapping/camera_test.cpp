@@ -8,6 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -173,9 +176,18 @@ TEST(CameraProjector, BadPosesAndParametersAreErrors) {
   EXPECT_NE(a.error().message.find("images.txt line 5"), std::string::npos) << a.error().message;
   EXPECT_NE(a.error().message.find("not orthonormal"), std::string::npos);
   EXPECT_FALSE(pose_from_rotation(mirror, {0, 0, 0}, CameraAxes::kOpenCV, "m"));
-  EXPECT_FALSE(pose_from_quaternion({1, 0.01, 0, 0}, {0, 0, 0}, CameraAxes::kOpenCV, "q"));
+  // A quaternion is normalised (COLMAP's rule); only zero or non-finite fails.
+  EXPECT_TRUE(pose_from_quaternion({1, 0.01, 0, 0}, {0, 0, 0}, CameraAxes::kOpenCV, "q"));
   EXPECT_TRUE(pose_from_quaternion({1, 1e-7, 0, 0}, {0, 0, 0}, CameraAxes::kOpenCV, "q"));
   EXPECT_FALSE(pose_from_quaternion({NAN, 0, 0, 0}, {0, 0, 0}, CameraAxes::kOpenCV, "q"));
+  Expected<CameraPose> zero =
+      pose_from_quaternion({0, 0, 0, 0}, {0, 0, 0}, CameraAxes::kOpenCV, "images.txt line 3");
+  ASSERT_FALSE(zero);
+  EXPECT_EQ(zero.error().message, "images.txt line 3: the quaternion is zero (no rotation)");
+  Expected<CameraPose> inf =
+      pose_from_quaternion({1, INFINITY, 0, 0}, {0, 0, 0}, CameraAxes::kOpenCV, "q");
+  ASSERT_FALSE(inf);
+  EXPECT_EQ(inf.error().message, "q: a value is not finite");
   EXPECT_FALSE(pose_from_cam_to_world({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1},
                                       CameraAxes::kOpenCV, "c2w"));
   EXPECT_FALSE(pose_from_look_at({0, 0, 0}, {0, 0, 1}, {0, 0, 2}, "look"));
@@ -189,6 +201,101 @@ TEST(CameraProjector, BadPosesAndParametersAreErrors) {
   EXPECT_FALSE(CameraProjector::make({CameraModel::kPinhole, 100, 100, {0, 1, 50, 50}, {}}));
   EXPECT_FALSE(CameraProjector::make({CameraModel::kPinhole, 100, 100, {1, NAN, 50, 50}, {}}));
   EXPECT_FALSE(CameraProjector::make({CameraModel::kPinhole, 0, 100, {1, 1, 50, 50}, {}}));
+}
+
+TEST(CameraProjector, BadIntrinsicsAreErrorsWithTheirValue) {
+  // Zero, negative and denormal focal lengths (1e-310 < DBL_MIN: 1 / f
+  // overflows), non-finite values, principal points off the image.
+  const std::vector<std::pair<std::vector<double>, std::string>> cases = {
+      {{0, 100, 50, 40}, "PINHOLE: the focal length must be positive (got 0)"},
+      {{100, -5, 50, 40}, "PINHOLE: the focal length must be positive (got -5)"},
+      {{1e-310, 100, 50, 40}, "PINHOLE: the focal length must be positive (got 1e-310)"},
+      {{100, 100, NAN, 40}, "PINHOLE: a camera parameter is not finite"},
+      {{INFINITY, 100, 50, 40}, "PINHOLE: a camera parameter is not finite"},
+      {{100, 100, -1, 40}, "PINHOLE: the principal point (-1, 40) is outside the 100 x 80 image"},
+      {{100, 100, 50, 80.5},
+       "PINHOLE: the principal point (50, 80.5) is outside the 100 x 80 image"},
+  };
+  for (const auto& [params, want] : cases) {
+    Expected<CameraProjector> c =
+        CameraProjector::make({CameraModel::kPinhole, 100, 80, params, {}});
+    ASSERT_FALSE(c) << want;
+    EXPECT_EQ(c.error().message, want);
+  }
+  // The image's corners and DBL_MIN itself are allowed.
+  EXPECT_TRUE(CameraProjector::make({CameraModel::kPinhole, 100, 80, {100, 100, 0, 80}, {}}));
+  EXPECT_TRUE(CameraProjector::make(
+      {CameraModel::kPinhole, 100, 80, {std::numeric_limits<double>::min(), 1, 100, 0}, {}}));
+}
+
+TEST(CameraProjector, QuaternionsAreNormalisedAndSixDigitsGiveTheSamePixels) {
+  // A general rotation, its quaternion printed with %.6g as some tools
+  // write images.txt: |q|^2 differs from 1 by 1.8e-6, so the rotation
+  // matrix of q as printed is off orthonormal by about that much (refused
+  // as "not orthonormal" before; COLMAP normalises).
+  const std::array<double, 4> exact = [] {
+    std::array<double, 4> q{0.6293444660151111, 0.33363749783895236, 0.6179714580981894,
+                            -0.33275041714161013};
+    const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (double& v : q) v /= n;
+    return q;
+  }();
+  std::array<double, 4> rounded{};
+  double dq2 = 0;
+  for (int i = 0; i < 4; ++i) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", exact[i]);
+    rounded[i] = std::strtod(buf, nullptr);
+    dq2 += (rounded[i] - exact[i]) * (rounded[i] - exact[i]);
+  }
+  const double norm = std::sqrt(rounded[0] * rounded[0] + rounded[1] * rounded[1] +
+                                rounded[2] * rounded[2] + rounded[3] * rounded[3]);
+  ASSERT_GT(std::abs(norm * norm - 1), 1.7e-6);  // not a unit quaternion as printed
+  const Vec3 t{0.3, -0.2, 4};
+  Expected<CameraPose> a = pose_from_quaternion(exact, t, CameraAxes::kOpenCV, "exact");
+  Expected<CameraPose> b = pose_from_quaternion(rounded, t, CameraAxes::kOpenCV, "rounded");
+  ASSERT_TRUE(a) << a.error().message;
+  ASSERT_TRUE(b) << b.error().message;
+  // The bound: each component is rounded by at most half a unit in the 6th
+  // digit (|dq_i| <= 5e-7 for |q_i| < 1, so |dq| <= 1e-6; measured here as
+  // sqrt(dq2)). Normalising moves q by at most 2 |dq| on the unit sphere, and
+  // unit quaternions e apart differ by a rotation of 4 asin(e / 2) ~ 2e
+  // radians: 4 |dq|. With t kept, X_cam = R X + t moves by (dR - I) R X, at
+  // most angle |X| (X the world point), and the pixel f (X/Z, Y/Z) by at
+  // most |J| angle |X| with |J| = f / z (1 + a^2 + b^2)^(1/2) <= f / z (1 +
+  // r^2) (the projection's Jacobian; to first order, which the bound's
+  // rounding up covers).
+  const double angle = 4 * std::sqrt(dq2);
+  const double f = 1000;
+  const CameraProjector ca = make_camera(CameraModel::kPinhole, {f, f, 640, 360}, 1280, 720, *a);
+  const CameraProjector cb = make_camera(CameraModel::kPinhole, {f, f, 640, 360}, 1280, 720, *b);
+  double worst = 0, worst_bound_ratio = 0;
+  int inside = 0;
+  for (int i = -4; i <= 4; ++i) {
+    for (int j = -3; j <= 3; ++j) {
+      // Points in front of camera a, spread over its photo, at depths 2..6.
+      const double z = 2 + (i + j + 7) % 5;
+      const Vec3 cam{0.6 * i / 4 * z, 0.3 * j / 3 * z, z};
+      // World point: X = R^T (cam - t).
+      const auto& r = a->r;
+      const Vec3 d{cam.x - t.x, cam.y - t.y, cam.z - t.z};
+      const Vec3 world{r[0] * d.x + r[3] * d.y + r[6] * d.z, r[1] * d.x + r[4] * d.y + r[7] * d.z,
+                       r[2] * d.x + r[5] * d.y + r[8] * d.z};
+      const CameraProjection pa = ca.project(world), pb = cb.project(world);
+      ASSERT_TRUE(pa.inside);
+      ++inside;
+      const double moved = std::hypot(pa.pixel.x - pb.pixel.x, pa.pixel.y - pb.pixel.y);
+      const double r2 = (cam.x * cam.x + cam.y * cam.y) / (z * z);
+      const double dist = length(world);
+      const double bound = f * angle * dist / z * (1 + r2);
+      worst = std::max(worst, moved);
+      worst_bound_ratio = std::max(worst_bound_ratio, moved / bound);
+    }
+  }
+  EXPECT_EQ(inside, 63);
+  EXPECT_LE(worst_bound_ratio, 1.0) << "worst " << worst << " px";
+  // Measured: 0.00054 px, 0.14 of the bound.
+  EXPECT_LT(worst, 0.05);  // at f = 1000: a twentieth of a pixel
 }
 
 TEST(CameraProjector, ModelNamesAndColmapIds) {

@@ -324,6 +324,60 @@ TEST_F(AtomicFileTest, CommitKilledBetweenRenamesIsCompletedByTheNextWrite) {
   EXPECT_TRUE(list_texbake_temporaries(dir_).empty());
 }
 
+TEST_F(AtomicFileTest, StagedRemovalsGoWithTheCommit) {
+  // A COLMAP model's other form: cameras.bin goes when cameras.txt comes.
+  const fs::path bin = dir_ / "cameras.bin", txt = dir_ / "cameras.txt";
+  ASSERT_TRUE(write_text(bin, "stale"));
+  {
+    AtomicFileSet set;
+    ASSERT_TRUE(set.stage_removal(bin));
+    ASSERT_TRUE(set.stage_removal(dir_ / "absent.bin"));  // nothing to remove: fine
+    ASSERT_TRUE(set.stage(txt, [&](const fs::path& t) { return write_text(t, "new"); }));
+    EXPECT_TRUE(fs::exists(bin)) << "staged, not yet removed";
+  }  // destroyed without commit: nothing changes
+  EXPECT_EQ(read(bin), "stale");
+  EXPECT_FALSE(fs::exists(txt));
+  {
+    AtomicFileSet set;
+    ASSERT_TRUE(set.stage(txt, [&](const fs::path& t) { return write_text(t, "new"); }));
+    ASSERT_TRUE(set.stage_removal(bin));
+    ASSERT_TRUE(set.commit());
+  }
+  EXPECT_FALSE(fs::exists(bin));
+  EXPECT_EQ(read(txt), "new");
+  EXPECT_EQ(entries(), 1u) << "no temporary and no journal left";
+  // A folder cannot be removed in its place: an error before anything.
+  fs::create_directories(dir_ / "images.bin");
+  AtomicFileSet set;
+  const Status s = set.stage_removal(dir_ / "images.bin");
+  ASSERT_FALSE(s);
+  EXPECT_EQ(s.error().message,
+            "cannot replace " + (dir_ / "images.bin").string() + ": it is a folder");
+}
+
+TEST_F(AtomicFileTest, ACommitWithRemovalsKilledBetweenRenamesIsCompleted) {
+  const fs::path stale = dir_ / "images.bin", a = dir_ / "cameras.txt", b = dir_ / "images.txt";
+  ASSERT_TRUE(write_text(stale, "stale"));
+  run_killed_child([&] {
+    g_after_commit_rename_for_tests = [](std::size_t index) {
+      if (index == 0) ::kill(::getpid(), SIGKILL);  // removal and first rename done
+    };
+    AtomicFileSet set;
+    (void)set.stage(a, [&](const fs::path& t) { return write_text(t, "new"); });
+    (void)set.stage(b, [&](const fs::path& t) { return write_text(t, "new"); });
+    (void)set.stage_removal(stale);
+    (void)set.commit();
+  });
+  EXPECT_FALSE(fs::exists(stale)) << "removed before the renames";
+  EXPECT_EQ(read(a), "new");
+  EXPECT_FALSE(fs::exists(b));
+  ASSERT_TRUE(
+      write_atomically(dir_ / "other.ply", [&](const fs::path& t) { return write_text(t, "x"); }));
+  EXPECT_EQ(read(b), "new") << "the next write completes the interrupted set";
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(list_texbake_temporaries(dir_).empty());
+}
+
 TEST_F(AtomicFileTest, SigtermDuringAWriteRemovesTheTemporary) {
   const fs::path target = dir_ / "atlas.png";
   ASSERT_TRUE(write_text(target, "old"));

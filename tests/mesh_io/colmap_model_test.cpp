@@ -5,11 +5,18 @@
 #include "mesh_io/colmap_model.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
+
+#include "mesh_io/atomic_file.h"
 
 namespace texbake {
 namespace {
@@ -160,11 +167,39 @@ TEST_F(ColmapModel, BadTextModelsNameTheFileAndLine) {
       {"1 PINHOLE 0 480 500 510 320 240\n", kImagesTxt,
        "cameras.txt line 1: the width and height must be positive"},
       {"1 PINHOLE 640 480 500 nan 320 240\n", kImagesTxt,
-       "cameras.txt line 1: a camera parameter is not a finite number"},
+       "cameras.txt line 1: camera id 1: a camera parameter is not a finite number (nan)"},
+      // Bad intrinsics are the camera's line, not the first image using it.
+      {"# c\n\n2 OPENCV 1920 1080 1400 1380 960.5 540.5 0 0 0 0\n"
+       "1 PINHOLE 640 480 0 510 320 240\n",
+       kImagesTxt,
+       "cameras.txt line 4: camera id 1: PINHOLE: the focal length must be positive (got 0)"},
+      {"1 PINHOLE 640 480 500 510 320 240\n2 SIMPLE_PINHOLE 1920 1080 -1400 960 540\n", kImagesTxt,
+       "cameras.txt line 2: camera id 2: SIMPLE_PINHOLE: the focal length must be positive "
+       "(got -1400)"},
+      {"1 PINHOLE 640 480 1e-310 510 320 240\n", kImagesTxt,
+       "cameras.txt line 1: camera id 1: PINHOLE: the focal length must be positive (got "
+       "1e-310)"},
+      {"1 PINHOLE 640 480 500 510 -320 240\n", kImagesTxt,
+       "cameras.txt line 1: camera id 1: PINHOLE: the principal point (-320, 240) is outside "
+       "the 640 x 480 image"},
+      // (The last parameter too: it read as a missing one before.)
+      {"1 PINHOLE 640 480 500 510 320 inf\n", kImagesTxt,
+       "cameras.txt line 1: camera id 1: a camera parameter is not a finite number (inf)"},
+      {"1 PINHOLE 640 480 500 510 320 1e999\n", kImagesTxt,
+       "cameras.txt line 1: camera id 1: a camera parameter is not a finite number (1e999)"},
       {kCamerasTxt, "7 0.8 0.2 -0.4 0.4 0.1 -0.2 3.5 9 a.jpg\n\n",
        "images.txt line 1: image 7 names camera id 9, which cameras.txt does not define"},
-      {kCamerasTxt, "7 0.9 0.2 -0.4 0.4 0.1 -0.2 3.5 2 a.jpg\n\n",
-       "images.txt line 1: the quaternion is not a unit quaternion"},
+      {kCamerasTxt, "7 0 0 0 0 0.1 -0.2 3.5 2 a.jpg\n\n",
+       "images.txt line 1: the quaternion is zero (no rotation)"},
+      // One line per image (no POINTS2D lines): the second image's line is
+      // where its first image's points should be.
+      {kCamerasTxt,
+       "# one line per image\n3 1 0 0 0 0 0 5 1 a.png\n4 1 0 0 0 0 0 6 1 b.png\n"
+       "5 1 0 0 0 0 0 7 1 c.png\n",
+       "images.txt line 3: expected the 2D points of the image on line 2 (X Y POINT3D_ID "
+       "triples, possibly none): COLMAP's images.txt has two lines per image"},
+      {kCamerasTxt, "3 1 0 0 0 0 0 5 1 a.png\n1 2 -1 4 5\n",
+       "images.txt line 2: expected the 2D points of the image on line 1"},
       {kCamerasTxt, "7 0.8 0.2 -0.4 0.4 0.1 -0.2 3.5 2\n\n",
        "images.txt line 1: expected IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME"},
       {kCamerasTxt, "3 1 0 0 0 0 0 5 1 a.png\n\n3 1 0 0 0 0 0 5 1 b.png\n\n",
@@ -179,6 +214,52 @@ TEST_F(ColmapModel, BadTextModelsNameTheFileAndLine) {
     EXPECT_EQ(m.error().code, ErrorCode::kParse) << m.error().message;
     EXPECT_EQ(m.error().message.rfind(c.message, 0), 0u)
         << "got: " << m.error().message << "\nwant: " << c.message;
+  }
+}
+
+TEST_F(ColmapModel, SixDigitQuaternionsAreNormalised) {
+  // (0.8, 0.2, -0.4, 0.4) with three components rounded down in the 6th
+  // digit: |q| = 1 - 1.6e-6 (refused as not unit before), read as COLMAP
+  // reads it (normalised): R within 2e-6 of the exact rotation's (the
+  // differences are 1.2e-6, 2.4e-7 and 4.6e-7).
+  write("cameras.txt", kCamerasTxt);
+  write("images.txt", "7 0.799999 0.2 -0.399999 0.399999 0.1 -0.2 3.5 2 a.jpg\n\n");
+  Expected<std::vector<ColmapImage>> m = read_colmap_model(dir_);
+  ASSERT_TRUE(m) << m.error().message;
+  EXPECT_NEAR((*m)[0].camera.spec().pose.r[0], 0.36, 2e-6);
+  EXPECT_NEAR((*m)[0].camera.spec().pose.r[1], -0.8, 2e-6);
+  EXPECT_NEAR((*m)[0].camera.spec().pose.r[2], -0.48, 2e-6);
+}
+
+TEST_F(ColmapModel, BadBinaryIntrinsicsNameCamerasBinAndTheRecord) {
+  // Camera 2 (record 2) with fy = NaN, then with cx = +inf and f = 0.
+  auto with_param = [](int index, double value) {
+    std::string b = cameras_bin();
+    const std::size_t second = 8 + (24 + 4 * 8) + 24;  // camera 2's first parameter
+    std::memcpy(&b[second + 8 * static_cast<std::size_t>(index)], &value, 8);
+    return b;
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {with_param(1, std::nan("")),
+       "cameras.bin record 2: camera id 2: OPENCV: a camera parameter is not finite"},
+      {with_param(2, INFINITY),
+       "cameras.bin record 2: camera id 2: OPENCV: a camera parameter is not finite"},
+      {with_param(0, 0.0),
+       "cameras.bin record 2: camera id 2: OPENCV: the focal length must be positive (got 0)"},
+      {with_param(1, 5e-324),
+       "cameras.bin record 2: camera id 2: OPENCV: the focal length must be positive (got "
+       "4.94066e-324)"},
+      {with_param(3, -540.5),
+       "cameras.bin record 2: camera id 2: OPENCV: the principal point (960.5, -540.5) is outside "
+       "the 1920 x 1080 image"},
+  };
+  write("images.bin", images_bin());
+  for (const auto& [cams, message] : cases) {
+    write("cameras.bin", cams);
+    Expected<std::vector<ColmapImage>> m = read_colmap_model(dir_);
+    ASSERT_FALSE(m) << message;
+    EXPECT_EQ(m.error().message.rfind(message, 0), 0u)
+        << "got: " << m.error().message << "\nwant: " << message;
   }
 }
 
@@ -210,6 +291,120 @@ TEST_F(ColmapModel, BadBinaryModelsNameTheFileAndRecord) {
     EXPECT_EQ(m.error().message.rfind(c.message, 0), 0u)
         << "got: " << m.error().message << "\nwant: " << c.message;
   }
+}
+
+TEST_F(ColmapModel, LargeImagesBinIsReadUnderAMemoryCap) {
+  // A valid images.bin of one image with 50 M 2D points (1.2 GB, a sparse
+  // file: made in no time, no disk used). The points are skipped by seeking:
+  // read in a child whose address space may grow by 256 MiB only (the
+  // whole file held in memory cannot fit: the reader before this ended in
+  // "out of memory").
+  write("cameras.bin", cameras_bin());
+  constexpr uint64_t kPoints = 50'000'000;
+  std::string b;
+  put<uint64_t>(b, 1);
+  put<uint32_t>(b, 3);
+  for (double v : {1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0}) put(b, v);
+  put<uint32_t>(b, 1);
+  b += std::string("IMG_0003.png") + '\0';
+  put<uint64_t>(b, kPoints);
+  write("images.bin", b);
+  fs::resize_file(dir_ / "images.bin", b.size() + kPoints * 24);
+  ASSERT_EQ(b.size(), 93u);  // 8 + 4 + 7 * 8 + 4 + 13 + 8
+  ASSERT_EQ(fs::file_size(dir_ / "images.bin"), 1'200'000'093u);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    long pages = 0;
+    std::ifstream("/proc/self/statm") >> pages;  // the address space in use, in pages
+    const rlim_t cap = static_cast<rlim_t>(pages) * ::sysconf(_SC_PAGESIZE) + (rlim_t{256} << 20);
+    const struct rlimit limit { cap, cap };
+    if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(3);
+    try {
+      Expected<std::vector<ColmapImage>> m = read_colmap_model(dir_);
+      ::_exit(m && m->size() == 1 && (*m)[0].name == "IMG_0003.png" ? 0 : 1);
+    } catch (...) {
+      ::_exit(2);  // std::bad_alloc
+    }
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: not read, 2: out of memory, 3: no limit";
+  // One point fewer than declared: truncated, named.
+  fs::resize_file(dir_ / "images.bin", b.size() + kPoints * 24 - 24);
+  Expected<std::vector<ColmapImage>> cut = read_colmap_model(dir_);
+  ASSERT_FALSE(cut);
+  EXPECT_EQ(cut.error().message, "images.bin: truncated in record 1");
+}
+
+TEST_F(ColmapModel, ImageNamesWithoutTheirNulStopAtALimit) {
+  write("cameras.bin", cameras_bin());
+  std::string b;
+  put<uint64_t>(b, 1);
+  put<uint32_t>(b, 3);
+  for (double v : {1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 5.0}) put(b, v);
+  put<uint32_t>(b, 1);
+  b += std::string(10000, 'a');  // no NUL
+  write("images.bin", b);
+  Expected<std::vector<ColmapImage>> m = read_colmap_model(dir_);
+  ASSERT_FALSE(m);
+  EXPECT_EQ(m.error().message,
+            "images.bin record 1: the image name is longer than 4096 bytes (no NUL: not a "
+            "COLMAP images.bin?)");
+}
+
+TEST_F(ColmapModel, WritingOneFormReplacesTheOther) {
+  // A stale binary model (the reader prefers it) and a folder's text model:
+  // writing text removes the .bin files (points3D too) and writes
+  // points3D.txt; writing binary then removes the .txt files.
+  write("cameras.bin", cameras_bin());
+  write("images.bin", images_bin());
+  write("points3D.bin", std::string(8, '\0'));
+  write("cameras.txt", kCamerasTxt);
+  write("images.txt", kImagesTxt);
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(dir_ / ".");
+  ASSERT_TRUE(model) << model.error().message;
+  std::vector<ColmapImage> one(model->begin(), model->begin() + 1);
+  ASSERT_TRUE(write_colmap_model(dir_, one, /*binary=*/false));
+  for (const char* gone : {"cameras.bin", "images.bin", "points3D.bin"}) {
+    EXPECT_FALSE(fs::exists(dir_ / gone)) << gone;
+  }
+  for (const char* kept : {"cameras.txt", "images.txt", "points3D.txt"}) {
+    EXPECT_TRUE(fs::exists(dir_ / kept)) << kept;
+  }
+  Expected<std::vector<ColmapImage>> back = read_colmap_model(dir_);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->size(), 1u);  // the new model, not the stale one
+  ASSERT_TRUE(write_colmap_model(dir_, *model, /*binary=*/true));
+  for (const char* gone : {"cameras.txt", "images.txt", "points3D.txt"}) {
+    EXPECT_FALSE(fs::exists(dir_ / gone)) << gone;
+  }
+  std::ifstream points(dir_ / "points3D.bin", std::ios::binary);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(points), {}), std::string(8, '\0'));
+  back = read_colmap_model(dir_);
+  ASSERT_TRUE(back) << back.error().message;
+  EXPECT_EQ(back->size(), 2u);
+  EXPECT_TRUE(list_texbake_temporaries(dir_).empty());
+}
+
+TEST_F(ColmapModel, AModelThatCannotBeWrittenChangesNothing) {
+  // images.txt is a folder: nothing is written, the stale binary model stays.
+  write("cameras.bin", cameras_bin());
+  write("images.bin", images_bin());
+  fs::create_directories(dir_ / "images.txt");
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(dir_);
+  ASSERT_TRUE(model);
+  const Status s = write_colmap_model(dir_, *model, /*binary=*/false);
+  ASSERT_FALSE(s);
+  EXPECT_EQ(s.error().code, ErrorCode::kIo);
+  EXPECT_NE(s.error().message.find("images.txt: it is a folder"), std::string::npos)
+      << s.error().message;
+  EXPECT_FALSE(fs::exists(dir_ / "cameras.txt"));
+  EXPECT_FALSE(fs::exists(dir_ / "points3D.txt"));
+  EXPECT_TRUE(fs::exists(dir_ / "cameras.bin"));
+  EXPECT_TRUE(fs::exists(dir_ / "images.bin"));
+  EXPECT_TRUE(list_texbake_temporaries(dir_).empty());
 }
 
 TEST_F(ColmapModel, WrittenModelsReadBackInBothForms) {

@@ -41,6 +41,27 @@ def test_photo_errors_are_the_cli_messages(tmp_path, bunny):
         texbake.bake_vertex_from_photos(mesh, cameras=tmp_path, blend="sharp")
 
 
+def test_an_unreadable_photo_is_left_out(tmp_path):
+    """A missing photo is left out with a warning and listed (as the CLI's
+    --report photos_skipped); strict_photos=True makes it the CLI's
+    --strict-photos error (OSError)."""
+    bunny = DATA / "bunny00.off"
+    ws = tmp_path / "ws"
+    r = run_cli("render", bunny, "--views", "3", "--size", "64x48", "--colmap", ws)
+    assert r.returncode == 0, r.stderr
+    missing = ws / "images" / "view_01.png"
+    missing.unlink()
+    mesh = texbake.read_mesh(bunny)
+    colors, stats, cameras = texbake.bake_vertex_from_photos(mesh, cameras=ws / "sparse" / "0")
+    assert [c["image"] for c in cameras] == ["view_00.png", "view_02.png"]
+    assert stats["photos_skipped"] == [
+        {"image": "view_01.png", "path": str(missing), "reason": f"{missing}: no such file"}]
+    assert stats["warnings"] == [
+        f"the photo of camera view_01.png is left out: {missing}: no such file"]
+    with pytest.raises(OSError, match="the photo of camera view_01.png: .*no such file"):
+        texbake.bake_vertex_from_photos(mesh, cameras=ws / "sparse" / "0", strict_photos=True)
+
+
 def test_layers_match_the_cli(tmp_path):
     """bake_vertex_from_layers gives the CLI's PLY bytes, here for the bundled
     bottle (label over the mesh's colours plus a decal), and the same per-layer

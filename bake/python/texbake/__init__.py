@@ -273,7 +273,8 @@ def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first"
 
 
 def bake_vertex_from_photos(*mesh, cameras, images=None, blend="soft", exposure="gain",
-                            occluded="fill", colorspace="auto", threads=0, progress=None):
+                            occluded="fill", colorspace="auto", strict_photos=False, threads=0,
+                            progress=None):
     """bake_vertex_from_photos(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
     one colour per vertex from calibrated photographs (`texbake bake MESH --cameras PATH`).
 
@@ -281,15 +282,18 @@ def bake_vertex_from_photos(*mesh, cameras, images=None, blend="soft", exposure=
     a JSON camera list; images: the photos' folder (default: a COLMAP
     workspace's images/ beside sparse/, or the list's folder). blend 'soft' |
     'best' | 'mean'; exposure 'gain' | 'none'; occluded 'fill' | (r, g, b[, a]);
-    colorspace 'auto' | 'srgb' | 'linear' (the photos'). Returns (colors (n, 4)
-    float32, stats dict, cameras: a list of dicts per photo with image, photo
-    (w, h), in_view, visible, weight_share, gain (r, g, b)). Progress stage:
-    'photos'.
+    colorspace 'auto' | 'srgb' | 'linear' (the photos'). A photo that cannot
+    be read is left out, named in stats['warnings'] and listed in
+    stats['photos_skipped'] (dicts with image, path, reason); strict_photos=True
+    makes it an error (OSError), as --strict-photos; no readable photo is an
+    error. Returns (colors (n, 4) float32, stats dict, cameras: a list of
+    dicts per photo used with image, photo (w, h), in_view, visible,
+    weight_share, gain (r, g, b)). Progress stage: 'photos'.
     """
     mesh = _mesh(mesh, 0, "bake_vertex_from_photos")[0]
     return _texbake.bake_vertex_from_photos(mesh, str(cameras), "" if images is None else str(images),
-                                            blend, exposure, occluded, colorspace, threads,
-                                            progress)
+                                            blend, exposure, occluded, colorspace,
+                                            bool(strict_photos), threads, progress)
 
 
 def bake_vertex_from_layers(*mesh, layers, occluded="fill", threads=0, progress=None):

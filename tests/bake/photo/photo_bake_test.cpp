@@ -168,6 +168,65 @@ TEST(PhotoBake, ExposureGainsRecoverTheInverseScales) {
   EXPECT_EQ(raw->cameras[1].gain[0], 1);
 }
 
+TEST(PhotoBake, AnUnreadablePhotoIsLeftOutAndTheRestGiveTheSameResult) {
+  // Three photos, the middle one's file missing: the bake is exactly the
+  // bake of the other two (gains included), with a warning and the photo
+  // listed; strict_photos makes it an error; none readable is an error.
+  const MeshData mesh = scene();
+  Shots all, two;
+  all.add("a", down_camera(3), photo_of_plane(3, 1.0));
+  all.add("b", down_camera(3.5, 0.2, -0.1), photo_of_plane(3.5, 0.8, 0.2, -0.1));
+  all.add("c", down_camera(2.8, -0.15, 0.1), photo_of_plane(2.8, 1.25, -0.15, 0.1));
+  two.add("a", down_camera(3), photo_of_plane(3, 1.0));
+  two.add("c", down_camera(2.8, -0.15, 0.1), photo_of_plane(2.8, 1.25, -0.15, 0.1));
+  const PhotoReader all_reader = all.reader();
+  const PhotoReader missing_b = [&](const Photo& p) -> Expected<PhotoImage> {
+    if (p.name == "b") return make_error(ErrorCode::kIo, "b.png: no such file");
+    return all_reader(p);
+  };
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, all.photos, {}, missing_b);
+  ASSERT_TRUE(r) << r.error().message;
+  Expected<PhotoBakeResult> want = bake_vertex_from_photos(mesh, two.photos, {}, two.reader());
+  ASSERT_TRUE(want) << want.error().message;
+  ASSERT_EQ(r->cameras.size(), 2u);
+  EXPECT_EQ(r->cameras[0].name, "a");
+  EXPECT_EQ(r->cameras[1].name, "c");
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(r->cameras[k].gain, want->cameras[k].gain);
+    EXPECT_EQ(r->cameras[k].visible, want->cameras[k].visible);
+  }
+  EXPECT_EQ(r->colors, want->colors);
+  ASSERT_EQ(r->skipped.size(), 1u);
+  EXPECT_EQ(r->skipped[0].name, "b");
+  EXPECT_EQ(r->skipped[0].path, "b.png");
+  EXPECT_EQ(r->skipped[0].reason, "b.png: no such file");
+  EXPECT_EQ(r->warnings,
+            std::vector<std::string>{"the photo of camera b is left out: b.png: no such file"});
+
+  PhotoBakeOptions strict;
+  strict.strict_photos = true;
+  Expected<PhotoBakeResult> s = bake_vertex_from_photos(mesh, all.photos, strict, missing_b);
+  ASSERT_FALSE(s);
+  EXPECT_EQ(s.error().code, ErrorCode::kIo);
+  EXPECT_EQ(s.error().message, "the photo of camera b: b.png: no such file");
+
+  const PhotoReader none = [](const Photo& p) -> Expected<PhotoImage> {
+    return make_error(ErrorCode::kParse, p.name + ".png: not an image");
+  };
+  Expected<PhotoBakeResult> n = bake_vertex_from_photos(mesh, all.photos, {}, none);
+  ASSERT_FALSE(n);
+  EXPECT_EQ(n.error().code, ErrorCode::kIo);
+  EXPECT_EQ(n.error().message,
+            "no usable photo: all 3 photos cannot be read (the first: a.png: not an image)");
+  // A cancelled read is no unreadable photo: it stops the bake.
+  const PhotoReader cancel = [](const Photo&) -> Expected<PhotoImage> {
+    return make_error(ErrorCode::kCancelled, "cancelled");
+  };
+  Expected<PhotoBakeResult> c = bake_vertex_from_photos(mesh, all.photos, {}, cancel);
+  ASSERT_FALSE(c);
+  EXPECT_EQ(c.error().code, ErrorCode::kCancelled);
+}
+
 TEST(PhotoBake, BlendWeightsByHand) {
   // Constant photos: 0.2 (linear) from height 2, 0.6 from height 4, both
   // straight above the centre vertex (cos theta = 1, border 1): q = f^2 / z^2,
