@@ -17,8 +17,8 @@ def help_commands():
     """The subcommands `texbake --help` lists, `cameras` as `cameras check`."""
     r = run_cli("--help")
     assert r.returncode == 0, r.stderr
-    section = r.stdout[r.stdout.index("SUBCOMMANDS:"):]
-    names = re.findall(r"^\s+([a-z]+)\s", section, re.M)
+    section = r.stdout[r.stdout.lower().index("subcommands:"):]
+    names = re.findall(r"^  ([a-z]+)\s", section, re.M)
     assert names, r.stdout
     return ["cameras check" if n == "cameras" else n for n in names]
 
@@ -31,7 +31,7 @@ def help_options(command):
     for line in r.stdout.splitlines():
         # An option line starts with its names: "  -o,--output TEXT ..." or
         # "  --size N ..."; descriptions and wrapped lines do not start with "-".
-        m = re.match(r"\s+(-[^\s]*(?:,\s*-[^\s]*)*)", line)
+        m = re.match(r"  (-[^\s]*(?:,\s*-[^\s]*)*)", line)
         if m:
             options.update(LONG_OPTION.findall(m.group(1)))
     options.discard("--help")
@@ -48,7 +48,7 @@ def doc_sections():
             current = heading.group(1).strip().strip("`")
             sections[current] = set()
         elif current and line.startswith("|") and not line.startswith("|---"):
-            first_cell = line.split("|")[1]
+            first_cell = re.split(r"(?<!\\)\|", line)[1]  # "\|" is a | in a cell
             sections[current].update(LONG_OPTION.findall(first_cell))
     return sections
 
