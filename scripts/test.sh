@@ -83,17 +83,19 @@ format_stage() {
 
 tsan_stage() {
   # -O1 -g without NDEBUG, as the sanitize stage. tests/tsan.supp says why
-  # each of its entries is there. setarch -R: gcc 12's TSan cannot map its
-  # shadow memory under kernels with 32 bits of mmap randomisation.
+  # each of its entries is there. Without address-space randomisation
+  # (setarch -R) for the build too, whose test discovery runs the binaries:
+  # gcc 12's TSan cannot map its shadow memory under kernels with 32 bits of
+  # mmap randomisation.
+  local no_aslr=(setarch "$(uname -m)" -R)
   cmake -S "$TEXBAKE_ROOT" -B "$TEXBAKE_TSAN_BUILD" -DTEXBAKE_SANITIZE=thread \
     -DTEXBAKE_BUILD_BENCH=OFF -DTEXBAKE_PYTHON=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" >/dev/null
-  cmake --build "$TEXBAKE_TSAN_BUILD" --parallel "$texbake_jobs" \
+  "${no_aslr[@]}" cmake --build "$TEXBAKE_TSAN_BUILD" --parallel "$texbake_jobs" \
     --target test_mapping test_mesh_io test_bake
   (cd "$TEXBAKE_TSAN_BUILD" &&
     TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$TEXBAKE_ROOT/tests/tsan.supp" \
-      setarch "$(uname -m)" -R \
-      ctest --output-on-failure --parallel "$texbake_jobs" --timeout 1200 \
+      "${no_aslr[@]}" ctest --output-on-failure --parallel "$texbake_jobs" --timeout 1200 \
       -R "$texbake_tsan_tests")
 }
 
