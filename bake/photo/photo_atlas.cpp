@@ -12,6 +12,7 @@
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
+#include "bake/util/timing.h"
 #include "mapping/sample.h"
 #include "mesh_io/vertex_normals.h"
 
@@ -19,13 +20,8 @@ namespace texbake {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using photo_detail::blend_weight;
 using photo_detail::CameraLook;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Samples per parallel block: a multiple of 64, so that each word of a
 // camera's bitset is written by one block only.

@@ -10,6 +10,7 @@
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
+#include "bake/util/timing.h"
 #include "bake/vertex/occlusion_fill.h"
 #include "mapping/image_view.h"
 #include "mesh_io/vertex_normals.h"
@@ -18,11 +19,6 @@ namespace texbake {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 constexpr std::size_t kGrain = 4096;  // vertices per parallel chunk
 

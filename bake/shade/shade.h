@@ -1,7 +1,10 @@
 // The shading rule (SPEC sections 1 to 3): how a point that a proxy mapped to
-// (u, v) becomes a colour. Written once, here: the vertex bake, the atlas bake
-// and the render's ground truth (ProjectionSource) all call it, so a render
-// shows exactly what a bake computes.
+// (u, v) becomes a colour, for a single proxy and image: the proxy vertex
+// bake, the proxy atlas bake and the render's ground truth (ProjectionSource)
+// call it, so a render shows exactly what such a bake computes. The layers
+// bake (bake/layers) and the photo bakes (bake/photo) still sample with
+// lookups of their own (bilinear, in linear light; no EWA, no plane wrap):
+// they are not yet this rule.
 //
 // The rule, for one MapResult m:
 //  - m.status == kUndefined (no mapping): no colour.
