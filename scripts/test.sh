@@ -94,7 +94,7 @@ tsan_stage() {
   "${no_aslr[@]}" cmake --build "$TEXBAKE_TSAN_BUILD" --parallel "$texbake_jobs" \
     --target test_mapping test_mesh_io test_bake
   (cd "$TEXBAKE_TSAN_BUILD" &&
-    TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 suppressions=$TEXBAKE_ROOT/tests/tsan.supp" \
+    TSAN_OPTIONS="halt_on_error=1 history_size=7 suppressions=$TEXBAKE_ROOT/tests/tsan.supp" \
       "${no_aslr[@]}" ctest --output-on-failure --parallel "$texbake_jobs" --timeout 1200 \
       -R "$texbake_tsan_tests")
 }
