@@ -20,6 +20,7 @@
 #include "mesh_io/file_name.h"
 #include "mesh_io/read_mesh_internal.h"
 #include "mesh_io/regular_file.h"
+#include "mesh_io/tsan_fork_join.h"
 
 namespace texbake {
 namespace fs = std::filesystem;
@@ -160,13 +161,25 @@ void triangulate_polygon(const MeshData& mesh, uint32_t first, uint32_t n,
 // never depend on the thread count (callers limit it with a task arena).
 constexpr std::size_t kBlock = 1 << 14;
 
+// fn(begin, end) for ranges [begin, end) covering [0, n), in parallel
+// (ForkJoin: the loop's fork and join, for ThreadSanitizer).
+template <class Fn>
+void parallel_ranges(std::size_t n, Fn&& fn) {
+  ForkJoin fork_join;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      fork_join.begin_body();
+                      fn(r.begin(), r.end());
+                      fork_join.end_body();
+                    });
+  fork_join.join();
+}
+
 template <class Fn>  // fn(block, begin, end) for the blocks of [0, n)
 void for_blocks(std::size_t n, Fn&& fn) {
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, (n + kBlock - 1) / kBlock),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t b = r.begin(); b != r.end(); ++b)
-                        fn(b, b * kBlock, std::min(n, (b + 1) * kBlock));
-                    });
+  parallel_ranges((n + kBlock - 1) / kBlock, [&](std::size_t first, std::size_t last) {
+    for (std::size_t b = first; b != last; ++b) fn(b, b * kBlock, std::min(n, (b + 1) * kBlock));
+  });
 }
 
 // Edges shared by more than two faces, counted without a hash map by a
@@ -186,8 +199,9 @@ std::size_t count_non_manifold_edges(const MeshData& mesh) {
   // positions (chunks x ranges) stay small however large the mesh.
   const std::size_t chunks = std::clamp<std::size_t>(nf / kBlock, 1, 64);
   auto for_chunks = [&](auto&& fn) {  // fn(chunk, begin, end), in parallel
-    tbb::parallel_for(std::size_t{0}, chunks,
-                      [&](std::size_t c) { fn(c, nf * c / chunks, nf * (c + 1) / chunks); });
+    parallel_ranges(chunks, [&](std::size_t first, std::size_t last) {
+      for (std::size_t c = first; c != last; ++c) fn(c, nf * c / chunks, nf * (c + 1) / chunks);
+    });
   };
   // fn(lo, hi) for the edges of faces [begin, end) (lo < hi).
   auto for_each_edge = [&](std::size_t begin, std::size_t end, auto&& fn) {
@@ -230,34 +244,32 @@ std::size_t count_non_manifold_edges(const MeshData& mesh) {
   at = {};
   // Second level, one range per task.
   std::atomic<std::size_t> count{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, ranges),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      std::size_t mine = 0;
-                      std::vector<uint32_t> start(kRange + 1), other;
-                      for (std::size_t range = r.begin(); range != r.end(); ++range) {
-                        const uint64_t* b = edges.get() + range_start[range];
-                        const uint64_t* e = edges.get() + range_start[range + 1];
-                        std::fill(start.begin(), start.end(), 0);
-                        for (const uint64_t* k = b; k != e; ++k) ++start[(*k >> 32) + 1];
-                        for (uint32_t v = 0; v < kRange; ++v) start[v + 1] += start[v];
-                        other.resize(static_cast<std::size_t>(e - b));
-                        for (const uint64_t* k = b; k != e; ++k)
-                          other[start[*k >> 32]++] = static_cast<uint32_t>(*k);
-                        // start[v] is now the end of vertex v's other ends.
-                        uint32_t from = 0;
-                        for (uint32_t v = 0; v < kRange; ++v) {
-                          auto vb = other.begin() + from, ve = other.begin() + start[v];
-                          from = start[v];
-                          std::sort(vb, ve);
-                          for (auto it = vb; it != ve;) {
-                            auto run = std::find_if(it, ve, [&](uint32_t x) { return x != *it; });
-                            if (run - it > 2) ++mine;
-                            it = run;
-                          }
-                        }
-                      }
-                      count.fetch_add(mine, std::memory_order_relaxed);
-                    });
+  parallel_ranges(ranges, [&](std::size_t first, std::size_t last) {
+    std::size_t mine = 0;
+    std::vector<uint32_t> start(kRange + 1), other;
+    for (std::size_t range = first; range != last; ++range) {
+      const uint64_t* b = edges.get() + range_start[range];
+      const uint64_t* e = edges.get() + range_start[range + 1];
+      std::fill(start.begin(), start.end(), 0);
+      for (const uint64_t* k = b; k != e; ++k) ++start[(*k >> 32) + 1];
+      for (uint32_t v = 0; v < kRange; ++v) start[v + 1] += start[v];
+      other.resize(static_cast<std::size_t>(e - b));
+      for (const uint64_t* k = b; k != e; ++k) other[start[*k >> 32]++] = static_cast<uint32_t>(*k);
+      // start[v] is now the end of vertex v's other ends.
+      uint32_t from = 0;
+      for (uint32_t v = 0; v < kRange; ++v) {
+        auto vb = other.begin() + from, ve = other.begin() + start[v];
+        from = start[v];
+        std::sort(vb, ve);
+        for (auto it = vb; it != ve;) {
+          auto run = std::find_if(it, ve, [&](uint32_t x) { return x != *it; });
+          if (run - it > 2) ++mine;
+          it = run;
+        }
+      }
+    }
+    count.fetch_add(mine, std::memory_order_relaxed);
+  });
   return count.load();
 }
 

@@ -14,7 +14,7 @@ texbake="$TEXBAKE_BUILD/texbake"
 sphere=(--proxy sphere --center 0,0,0 --radius 1 --pole 0,0,1 --equator 1,0,0)
 
 demo_worked_example() {
-  echo "== Inverse mapping: the worked example of SPEC section 2 (see README.md) =="
+  echo "== Inverse mapping: the worked example of SPEC section 2 (see docs/proxies.md) =="
   echo "\$ texbake map ${sphere[*]} --dir 1,1,1 --json"
   "$texbake" map "${sphere[@]}" --dir 1,1,1 --json
   echo "   (expected u = 0.125, v = 0.695913)"
@@ -80,7 +80,7 @@ demo_render_previews() {
 }
 
 demo_photos() {
-  # Photographs (SPEC section 9, README "Photographs"): the demo has no real
+  # Photographs (SPEC section 9, docs/photographs.md): the demo has no real
   # photos, so texbake makes some with known cameras. It renders the bunny,
   # unlit, with the Earth map projected from the sphere, from 8 views, and
   # writes them as a COLMAP workspace (out/photos_ws/images/view_NN.png,
@@ -114,7 +114,7 @@ demo_photos() {
 }
 
 demo_layers() {
-  # Layers (SPEC section 10, README "Layers"): a bottle with its own green
+  # Layers (SPEC section 10, docs/layers.md): a bottle with its own green
   # vertex colours (data/bottle.ply) gets a label with transparent rounded
   # corners (data/label.png) wrapped around it through a cylinder proxy, and
   # the Earth map as a small decal on its shoulder through a plane proxy

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Makes the layers demo's inputs in data/ (README "Layers"): standard library only.
+"""Makes the layers demo's inputs in data/ (docs/layers.md): standard library only.
 
   data/bottle.ply  a lathe-turned bottle, y up, 1 unit tall, with green
                    glass-like vertex colours (the base "mesh" of the demo)

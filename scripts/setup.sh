@@ -23,7 +23,7 @@ texbake_build_packages=(
 )
 texbake_test_packages=(
   libgtest-dev libbenchmark-dev
-  clang libclang-rt-dev
+  clang libclang-rt-dev clang-format
   python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-open3d parallel
   nodejs
 )

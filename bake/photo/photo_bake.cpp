@@ -19,7 +19,6 @@ namespace texbake {
 
 namespace {
 
-
 constexpr std::size_t kGrain = 4096;  // vertices per parallel chunk
 
 using photo_detail::blend_weight;

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <optional>
 
+#include "mesh_io/tsan_fork_join.h"
+
 namespace texbake {
 
 struct ThreadLimitImpl {
@@ -25,7 +27,13 @@ ThreadLimit::~ThreadLimit() = default;
 
 void run_in_arena(int threads, const std::function<void()>& fn) {
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute(fn);
+  ForkJoin fork_join;  // execute may run fn on another thread
+  arena.execute([&] {
+    fork_join.begin_body();
+    fn();
+    fork_join.end_body();
+  });
+  fork_join.join();
 }
 
 void parallel_for_chunks(std::size_t n, std::size_t grain,
@@ -34,10 +42,16 @@ void parallel_for_chunks(std::size_t n, std::size_t grain,
   grain = std::max<std::size_t>(grain, 1);
   // simple_partitioner with a fixed grain: chunk boundaries depend only on n
   // and grain, never on the thread count.
+  ForkJoin fork_join;
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, n, grain),
-      [&](const tbb::blocked_range<std::size_t>& r) { fn(r.begin(), r.end()); },
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        fork_join.begin_body();
+        fn(r.begin(), r.end());
+        fork_join.end_body();
+      },
       tbb::simple_partitioner());
+  fork_join.join();
 }
 
 void parallel_for_blocks(std::size_t n, std::size_t size,
