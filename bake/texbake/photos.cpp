@@ -48,7 +48,9 @@ PhotoReader progress_reader(Progress& progress, std::size_t& done, TextureColorS
 
 }  // namespace
 
-Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::path& images) {
+namespace detail {
+
+Expected<std::vector<Photo>> camera_photos(const fs::path& cameras, const fs::path& images) {
   std::error_code ec;
   std::vector<Photo> photos;
   fs::path folder = images;
@@ -77,7 +79,15 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
       photos.push_back({entry.image, std::move(entry.camera), path});
     }
   }
-  for (const Photo& photo : photos) {
+  return photos;
+}
+
+}  // namespace detail
+
+Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::path& images) {
+  Expected<std::vector<Photo>> photos = detail::camera_photos(cameras, images);
+  if (!photos) return photos;
+  for (const Photo& photo : *photos) {
     if (Status s = check_regular_file(photo.path, "a photo"); !s) {
       return make_error(ErrorCode::kIo,
                         "the photo of camera " + photo.name + ": " + s.error().message);

@@ -81,4 +81,11 @@ Status check_shading_colors(const VertexBakeOptions& options);
 Status lay_out_atlas(const MeshData& mesh, const Proxy* proxy, const AtlasOptions& options,
                      Progress& progress, Atlas& atlas, MeshData* consumed = nullptr);
 
+// read_cameras without its check that each photo exists: the cameras of
+// `cameras` with their photos' paths, resolved against `images` as
+// read_cameras resolves them (the job's file list, job_inputs, names the
+// photos a bake would read, whether they exist or not).
+Expected<std::vector<Photo>> camera_photos(const std::filesystem::path& cameras,
+                                           const std::filesystem::path& images);
+
 }  // namespace texbake::detail
