@@ -83,7 +83,8 @@ Expected<LayerSpec> read_layer(const json& o, const fs::path& folder, const std:
   } else if (o.contains("proxy_file")) {
     Expected<std::string> path = path_value(o["proxy_file"], where + ".proxy_file");
     if (!path) return path.error();
-    Expected<Projector> p = read_projector_file(resolve(folder, *path));
+    layer.proxy_file = resolve(folder, *path);
+    Expected<Projector> p = read_projector_file(layer.proxy_file);
     if (!p) return p.error();
     layer.projector = std::move(p).value();
   } else {

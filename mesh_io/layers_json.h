@@ -41,6 +41,7 @@ enum class LayerOutside { kTransparent, kClamp, kColor };
 
 struct LayerSpec {
   std::optional<Projector> projector;  // "proxy" or "proxy_file"
+  std::filesystem::path proxy_file;    // "proxy_file", resolved (empty otherwise)
   std::filesystem::path cameras;       // "cameras" (then projector is empty)
   std::filesystem::path images;        // "images" (with "cameras" only)
   std::filesystem::path texture;       // resolved against the layers file's folder

@@ -417,16 +417,15 @@ int run_bake(const BakeCliOptions& o) {
       atlas ? atlas_files(output, write_options) : std::vector<fs::path>{output};
   // ---- No output may overwrite an input or another output (exit 2). ----
   {
-    std::vector<NamedFile> written{{"-o", output}};
-    if (outputs.size() == 3) {
-      written.push_back({"the material of -o", outputs[1]});
-      written.push_back({"the atlas image of -o", outputs[2]});
-    }
-    written.push_back({"--report", o.report});
-    const std::vector<NamedFile> read{{"MESH", o.mesh},
-                                      {"--texture", o.texture},
-                                      {"--proxy-file", geometry.proxy_file.value_or("")}};
-    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
+    JobFileNames files;
+    files.mesh = o.mesh;
+    files.texture = o.texture;
+    files.proxy_file = geometry.proxy_file.value_or("");
+    files.output = output;
+    files.atlas = atlas;
+    files.write = write_options;
+    files.report = o.report;
+    if (Status s = check_job_files(files); !s) return report_error(s.error());
   }
 
   // ---- Outputs must be writable before the long work (exit 1). ----

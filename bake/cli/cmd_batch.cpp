@@ -140,61 +140,40 @@ std::string string_key(const ordered_json& job, const char* key) {
   return it != job.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
-// The files the job reads and writes, as `texbake bake` would: MESH,
-// --texture, --proxy-file, --layers (and its images), --cameras (and its
-// photos); -o (with an atlas OBJ's MTL and image, by
-// resolve_target and atlas_files) and --report.
+// The files the job names, by the keys of `texbake bake`'s flags: -o is an
+// atlas (with an OBJ's MTL and image) by resolve_target.
+JobFileNames job_file_names(const ordered_json& job) {
+  JobFileNames f;
+  f.mesh = string_key(job, "mesh");
+  f.texture = string_key(job, "texture");
+  f.proxy_file = string_key(job, "proxy_file");
+  f.cameras = string_key(job, "cameras");
+  f.images = string_key(job, "images");
+  f.layers = string_key(job, "layers");
+  f.output = string_key(job, "output");
+  AtlasFlags flags;
+  flags.target = string_key(job, "target");
+  Expected<BakeTarget> target = resolve_target(flags, f.output);
+  f.atlas = !f.output.empty() && target && *target == BakeTarget::kAtlas;
+  const std::string format = string_key(job, "format");
+  f.write.format = format == "exr"     ? AtlasFormat::kExr
+                   : format == "png16" ? AtlasFormat::kPng16
+                                       : AtlasFormat::kPng8;
+  f.report = string_key(job, "report");
+  return f;
+}
+
+// The files the job reads and writes, as `texbake bake` lists them
+// (job_inputs, job_outputs: the layers file and what it names, the camera
+// model and its photos, an atlas's MTL and image, --report).
 struct JobFiles {
   std::vector<fs::path> inputs, outputs;
 };
 
-JobFiles job_files(const ordered_json& job) {
+JobFiles job_files(const JobFileNames& names) {
   JobFiles f;
-  for (const char* key : {"mesh", "texture", "proxy_file", "layers"}) {
-    if (std::string p = string_key(job, key); !p.empty()) f.inputs.push_back(p);
-  }
-  // A layers file's images, and the photos of --cameras (and the model's
-  // files: a folder's own time does not change when a file in it does).
-  // When they cannot be read the job runs and reports why.
-  if (std::string p = string_key(job, "layers"); !p.empty()) {
-    if (Expected<LayersSpec> spec = read_layers(p)) {
-      for (const LayerSpec& l : spec->layers) {
-        for (const fs::path& image : {l.texture, l.mask}) {
-          if (!image.empty()) f.inputs.push_back(image);
-        }
-      }
-    }
-  }
-  if (std::string p = string_key(job, "cameras"); !p.empty()) {
-    std::error_code ec;
-    if (fs::is_directory(p, ec)) {
-      for (const char* name : {"cameras.txt", "images.txt", "cameras.bin", "images.bin"}) {
-        if (fs::exists(fs::path(p) / name, ec)) f.inputs.push_back(fs::path(p) / name);
-      }
-    } else {
-      f.inputs.push_back(p);
-    }
-    if (Expected<std::vector<Photo>> photos = read_cameras(p, string_key(job, "images"))) {
-      for (const Photo& photo : *photos) f.inputs.push_back(photo.path);
-    }
-  }
-  const std::string output = string_key(job, "output");
-  if (!output.empty()) {
-    AtlasFlags flags;
-    flags.target = string_key(job, "target");
-    WriteOptions write;
-    const std::string format = string_key(job, "format");
-    write.format = format == "exr"     ? AtlasFormat::kExr
-                   : format == "png16" ? AtlasFormat::kPng16
-                                       : AtlasFormat::kPng8;
-    Expected<BakeTarget> target = resolve_target(flags, output);
-    if (target && *target == BakeTarget::kAtlas) {
-      f.outputs = atlas_files(output, write);
-    } else {
-      f.outputs.push_back(output);
-    }
-  }
-  if (std::string r = string_key(job, "report"); !r.empty()) f.outputs.push_back(r);
+  for (const NamedFile& in : job_inputs(names)) f.inputs.push_back(in.path);
+  for (const NamedFile& out : job_outputs(names)) f.outputs.push_back(out.path);
   return f;
 }
 
@@ -290,6 +269,9 @@ int run_batch(const BatchOptions& o) {
   const auto start = Clock::now();
   Expected<Shard> shard = parse_shard(o.shard);
   if (!shard) return report_error(shard.error());
+  if (Status s = check_distinct_files({{"JOBS", o.jobs}}, {{"--results", o.results}}); !s) {
+    return report_error(s.error());
+  }
   if (!o.results.empty()) {
     if (Status s = check_writable(o.results); !s) return report_error(s.error());
   }
@@ -325,12 +307,22 @@ int run_batch(const BatchOptions& o) {
           ErrorCode::kParse,
           "not a JSON object (" + (end == std::string::npos ? what : what.substr(end + 2)) + ")");
     }
-    if (argv) r.outputs = job_files(job).outputs;
+    JobFileNames names;
+    if (argv) {
+      names = job_file_names(job);
+      for (const NamedFile& out : job_outputs(names)) r.outputs.push_back(out.path);
+      // No output may be an input: the jobs file is an input, --results an
+      // output, of every job.
+      JobFileNames in_batch = names;
+      in_batch.manifest = o.jobs;
+      in_batch.results = o.results;
+      if (Status s = check_job_files(in_batch); !s) argv = s.error();
+    }
     if (!argv) {
       r.status = "failed";
       r.exit_code = exit_code(argv.error());
       r.error = argv.error().message;
-    } else if (o.skip_existing && up_to_date(job_files(job))) {
+    } else if (o.skip_existing && up_to_date(job_files(names))) {
       r.status = "skipped";
     } else {
       run_job(*argv, r);

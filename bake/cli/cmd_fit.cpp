@@ -7,7 +7,6 @@
 #include <string>
 
 #include "bake/cli/commands.h"
-#include "bake/cli/file_checks.h"
 #include "bake/cli/geometry_flags.h"
 #include "bake/cli/proxy_for_mesh.h"
 #include "mesh_io/atomic_file.h"
@@ -50,9 +49,10 @@ RunFunction add_fit_command(CLI::App& app) {
       return report_error(s.error());
     }
     if (!opts->output.empty()) {
-      if (Status s = check_distinct_files({{"MESH", opts->mesh}}, {{"-o", opts->output}}); !s) {
-        return report_error(s.error());
-      }
+      JobFileNames files;
+      files.mesh = opts->mesh;
+      files.output = opts->output;
+      if (Status s = check_job_files(files); !s) return report_error(s.error());
       if (Status s = check_writable(opts->output); !s) return report_error(s.error());
     }
     Expected<LoadedMesh> loaded = read_mesh(opts->mesh);

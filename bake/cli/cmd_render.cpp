@@ -112,8 +112,7 @@ int render_workspace(const MeshData& mesh, const ColorSource& source, const Rend
     view.azimuth_deg = options.azimuth_deg + k * 360.0 / options.views;
     Expected<Rendered> rendered = render_mesh(mesh, source, view, run);
     if (!rendered) return report_mesh_error(rendered.error(), args.mesh);
-    char name[32];
-    std::snprintf(name, sizeof name, "view_%02d.png", k);
+    const std::string name = colmap_view_name(k);
     if (Status st = write_image(dir / "images" / name, rendered->image.view(), photo_options); !st)
       return report_error(st.error());
     Expected<Camera> camera = make_camera(*bounds, view, view.azimuth_deg);
@@ -222,11 +221,16 @@ int run_render(const RenderArgs& args) {
 
   const std::filesystem::path output =
       args.output.empty() ? default_output(args.mesh) : std::filesystem::path(args.output);
-  if (Status st = check_distinct_files({{"MESH", args.mesh},
-                                        {"--texture", args.texture},
-                                        {"--proxy-file", args.geometry.proxy_file.value_or("")}},
-                                       {{"-o", output}});
-      !st) {
+  // No output (the image, or the --colmap workspace's views and model) may
+  // be an input.
+  JobFileNames files;
+  files.mesh = args.mesh;
+  files.texture = args.texture;
+  files.proxy_file = args.geometry.proxy_file.value_or("");
+  if (args.colmap.empty()) files.output = output;
+  const std::vector<NamedFile> written =
+      args.colmap.empty() ? job_outputs(files) : colmap_workspace_files(args.colmap, args.views);
+  if (Status st = check_distinct_files(job_inputs(files), written); !st) {
     return report_error(st.error());
   }
   if (args.colmap.empty()) {
@@ -288,6 +292,11 @@ int run_render(const RenderArgs& args) {
     if (!has_atlas) {
       return report_error(ErrorCode::kInvalidArgument,
                           "--colors atlas: '" + args.mesh + "' has no UVs with a texture");
+    }
+    // The mesh's own texture is an input too: no output may overwrite it.
+    if (Status st = check_distinct_files({{"the texture of MESH", mesh.texture_path}}, written);
+        !st) {
+      return report_error(st.error());
     }
     // The file's own texture: an image file (OBJ map_Kd, a .gltf's URI) or
     // one embedded in a .glb / .gltf (mesh_io/mesh_texture.h).

@@ -1,31 +1,13 @@
-// Checks on the files a command names, made before any work (issue #12):
-// no output may be an input or another output, and warnings about inputs.
+// Warnings about the files a command reads. The rule that no output is an
+// input or another output is the library's (texbake/texbake.h,
+// check_distinct_files and job_inputs / job_outputs).
 #pragma once
 
-#include <filesystem>
 #include <string>
-#include <vector>
 
-#include "mapping/error.h"
 #include "mesh_io/image_io.h"
 
 namespace texbake::cli {
-
-// A file and how the command line named it ("-o", "MESH", "--texture",
-// "the atlas image of -o").
-struct NamedFile {
-  std::string flag;
-  std::filesystem::path path;
-};
-
-// kInvalidArgument (exit 2) when an output is the same file as an input
-// (device and inode after links, mesh_io/atomic_file.h same_file) or two
-// outputs name the same path (after links, existing or not):
-//   "-o out.ply and MESH out.ply are the same file: texbake never overwrites
-//    an input"
-// Empty paths are skipped.
-Status check_distinct_files(const std::vector<NamedFile>& inputs,
-                            const std::vector<NamedFile>& outputs);
 
 // Prints "texbake: warning: TEXTURE: N NaN or infinite values read as 0"
 // when the image had any (mesh_io/image_io.h, Image::nonfinite_values).

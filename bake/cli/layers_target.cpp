@@ -7,7 +7,6 @@
 
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/commands.h"
-#include "bake/cli/file_checks.h"
 #include "bake/cli/photo_target.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/report.h"
@@ -142,40 +141,30 @@ int run_layers_bake(const LayersJob& job) {
   const auto start = Clock::now();
   const fs::path output = job.output;
   if (Status s = validate_write(output, job.write, job.atlas); !s) return report_error(s.error());
-  // The outputs (-o and, for an atlas .obj, its material and image), then --report.
-  std::vector<fs::path> outputs{output};
-  if (job.atlas) outputs = atlas_files(output, job.write);
-  std::vector<NamedFile> written{{"-o", output}};
-  if (outputs.size() == 3) {
-    written.push_back({"the material of -o", outputs[1].string()});
-    written.push_back({"the atlas image of -o", outputs[2].string()});
+  // No output may be an input (MESH, the layers file and everything it
+  // names) or another output (-o and, for an atlas .obj, its material and
+  // image, --report).
+  JobFileNames files;
+  files.mesh = job.mesh;
+  files.layers = job.layers;
+  files.output = output;
+  files.atlas = job.atlas;
+  files.write = job.write;
+  files.report = job.report;
+  const std::vector<NamedFile> written = job_outputs(files);
+  if (Status s = check_distinct_files(job_inputs(files), written); !s) {
+    return report_error(s.error());
   }
-  written.push_back({"--report", job.report});
-  {
-    const std::vector<NamedFile> read{{"MESH", job.mesh}, {"--layers", job.layers}};
-    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
-  }
-  if (!job.report.empty()) outputs.push_back(job.report);
-  for (const fs::path& p : outputs) {
-    if (Status s = check_writable(p); !s) return report_error(s.error());
+  for (const NamedFile& f : written) {
+    if (Status s = check_writable(f.path); !s) return report_error(s.error());
   }
   auto stage = Clock::now();
   Expected<LayersSpec> spec = read_layers(job.layers);
   if (!spec) return report_error(spec.error());
-  // No layer's image may be overwritten by an output either.
-  {
-    std::vector<NamedFile> read;
-    for (std::size_t i = 0; i < spec->layers.size(); ++i) {
-      const std::string key = "layers[" + std::to_string(i) + "]";
-      read.push_back({key + ".texture", spec->layers[i].texture.string()});
-      read.push_back({key + ".mask", spec->layers[i].mask.string()});
-    }
-    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
-  }
   Expected<LoadedMesh> mesh = read_mesh(job.mesh, RunOptions{job.threads, {}});
   if (!mesh) return report_error(mesh.error());
   if (job.atlas && mesh->mesh.has_texture()) {
-    // Nor the base texture.
+    // Nor the base texture, named by the mesh.
     const std::vector<NamedFile> read{{"the texture of MESH", mesh->mesh.texture_path}};
     if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
   }

@@ -8,7 +8,6 @@
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
-#include "bake/cli/file_checks.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/report.h"
 #include "bake/util/timing.h"
@@ -162,31 +161,29 @@ void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
 namespace {
 
 // The outputs (-o and, for an atlas .obj, its material and image), then
-// --report: distinct from the inputs and each other (exit 2), writable
-// (exit 1). Returns 0 or the exit code.
+// --report: distinct from the inputs (MESH, the camera files and every photo
+// they name, or a camera --proxy-file and its --texture) and each other
+// (exit 2), writable (exit 1). Returns 0 or the exit code.
 int check_outputs(const PhotoJob& job) {
-  const fs::path output = job.output;
-  std::vector<fs::path> outputs{output};
-  if (job.atlas) outputs = atlas_files(output, job.write);
-  {
-    std::vector<NamedFile> read{{"MESH", job.mesh}};
-    if (job.single) {
-      read.push_back({"--proxy-file", job.flags.cameras});
-      read.push_back({"--texture", job.single->path});
-    } else {
-      read.push_back({"--cameras", job.flags.cameras});
-    }
-    std::vector<NamedFile> written{{"-o", output}};
-    if (outputs.size() == 3) {
-      written.push_back({"the material of -o", outputs[1]});
-      written.push_back({"the atlas image of -o", outputs[2]});
-    }
-    written.push_back({"--report", job.report});
-    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
+  JobFileNames files;
+  files.mesh = job.mesh;
+  if (job.single) {
+    files.proxy_file = job.flags.cameras;
+    files.texture = job.single->path;
+  } else {
+    files.cameras = job.flags.cameras;
+    files.images = job.flags.images;
   }
-  if (!job.report.empty()) outputs.push_back(job.report);
-  for (const fs::path& p : outputs) {
-    if (Status s = check_writable(p); !s) return report_error(s.error());
+  files.output = job.output;
+  files.atlas = job.atlas;
+  files.write = job.write;
+  files.report = job.report;
+  const std::vector<NamedFile> written = job_outputs(files);
+  if (Status s = check_distinct_files(job_inputs(files), written); !s) {
+    return report_error(s.error());
+  }
+  for (const NamedFile& f : written) {
+    if (Status s = check_writable(f.path); !s) return report_error(s.error());
   }
   return 0;
 }

@@ -504,4 +504,82 @@ std::vector<std::filesystem::path> atlas_files(const std::filesystem::path& path
 // write_image (mesh_io/image_io.h) writes a single image; write_proxy_file
 // (mesh_io/proxy_json.h) a proxy.
 
+// ---- The files of a job (SPEC section 12) ---------------------------------
+//
+// No output may be an input of the same job or another output, after links:
+// a caller lists the job's files (job_inputs, job_outputs, or its own lists)
+// and calls check_distinct_files before any work, so nothing is read, made
+// or overwritten when the check fails.
+
+// A file a job reads or writes and how the caller named it, for messages:
+// a flag ("-o", "--texture"), a positional ("MESH"), a key of a file
+// ("layers[1].mask") or a role ("the atlas image of -o", "a photo of
+// --cameras").
+struct NamedFile {
+  std::string name;
+  std::filesystem::path path;
+};
+
+// The paths a job names (empty: not given), as the command line's flags
+// and the batch's keys name them.
+struct JobFileNames {
+  std::filesystem::path mesh;        // MESH
+  std::filesystem::path texture;     // --texture (also the photo of a camera --proxy-file)
+  std::filesystem::path proxy_file;  // --proxy-file
+  std::filesystem::path cameras;     // --cameras: a COLMAP model folder or a JSON camera list
+  std::filesystem::path images;      // --images
+  std::filesystem::path layers;      // --layers
+  std::filesystem::path manifest;    // the batch's jobs file (every job of it reads it)
+  std::filesystem::path output;      // -o
+  bool atlas = false;                // -o is an atlas: atlas_files(output, write) are written
+  WriteOptions write;                // the atlas image's format
+  std::filesystem::path report;      // --report
+  std::filesystem::path results;     // the batch's --results (every job of it writes it)
+};
+
+// Every file the job reads, paths as given: MESH "MESH", --texture,
+// --proxy-file, the camera files of --cameras (camera_files), the layers
+// file and what it names (layers_files), the batch's jobs file "JOBS".
+// A layers file or camera model that cannot be read adds what could be
+// listed: the job then fails reading it, before it writes anything.
+std::vector<NamedFile> job_inputs(const JobFileNames& job);
+
+// Every file the job writes: -o "-o" (an atlas .obj: also "the material of
+// -o" and "the atlas image of -o", atlas_files), --report, --results.
+std::vector<NamedFile> job_outputs(const JobFileNames& job);
+
+// The files a set of cameras is read from, named `name` ("--cameras",
+// "layers[2].cameras"): a JSON camera list itself, or a COLMAP model
+// folder's cameras, images and points3D files (.txt and .bin, those that
+// exist), then "a photo of NAME" for every photo they name, resolved
+// against `images` as read_cameras resolves them, whether it exists or not.
+std::vector<NamedFile> camera_files(const std::filesystem::path& cameras,
+                                    const std::filesystem::path& images, const std::string& name);
+
+// The layers file "--layers" and, recursively, what it names:
+// "layers[i].proxy_file", "layers[i].texture", "layers[i].mask" and the
+// camera_files of "layers[i].cameras" (with its "images").
+std::vector<NamedFile> layers_files(const std::filesystem::path& layers);
+
+// The name of view k (0-based) of a COLMAP workspace that render --colmap
+// writes ("view_00.png"), and every file that workspace gets, named
+// "--colmap": DIR/images/<view names> for `views` views, then
+// DIR/sparse/0/cameras.txt and images.txt (write_colmap_model).
+std::string colmap_view_name(int k);
+std::vector<NamedFile> colmap_workspace_files(const std::filesystem::path& dir, int views);
+
+// kUsage when an output is the same file as an input or as another output:
+// the same device and inode after links, or, for a file that does not exist
+// yet, the same absolute path with links, "." and ".." resolved:
+//   "-o photos/a.png and a photo of --cameras photos/a.png are the same
+//    file: texbake never overwrites an input"
+//   "--report x.ply and -o x.ply are the same file: two outputs cannot
+//    share one file"
+// Empty paths are skipped.
+Status check_distinct_files(const std::vector<NamedFile>& inputs,
+                            const std::vector<NamedFile>& outputs);
+
+// check_distinct_files(job_inputs(job), job_outputs(job)).
+Status check_job_files(const JobFileNames& job);
+
 }  // namespace texbake
