@@ -28,20 +28,15 @@ void add_atlas_flags(CLI::App& bake, AtlasFlags& flags) {
           "so mipmaps never average in black; an explicit N is taken as is and leaves the rest "
           "transparent black, 0 = no dilation)")
       ->type_name("N|inf");
-  add_choice_option(
+  add_choice_option<UvLayout>(
       bake, "--uv", flags.uv,
-      {{"auto", UvLayout::kAuto},
-       {"mesh", UvLayout::kMesh},
-       {"generate", UvLayout::kGenerate},
-       {"proxy", UvLayout::kProxy}},
       "atlas target UV layout: auto (default: mesh if the mesh has UVs, else generate), "
       "mesh (its own UVs), generate (new non-overlapping charts) or proxy (the proxy's "
       "(u, v), cut at its seam; suits meshes that are star-shaped as seen from the proxy's "
       "centre, axis or plane: surfaces behind one another share texels, which are counted, "
       "warned about and take the visible surface's colour)");
-  add_choice_option(
+  add_choice_option<AtlasFormat>(
       bake, "--format", flags.format,
-      {{"png8", AtlasFormat::kPng8}, {"png16", AtlasFormat::kPng16}, {"exr", AtlasFormat::kExr}},
       "atlas target image format: png8 (default), png16 or exr (.obj only)");
 }
 
@@ -72,23 +67,9 @@ Expected<AtlasOptions> atlas_options(const AtlasFlags& flags, std::optional<int>
   o.samples = samples.value_or(4);
   o.padding = kPaddingDefault;  // until --padding is parsed, after the other checks
   if (Status s = validate_options(options); !s) return s.error();
-  if (flags.padding == "inf") {
-    o.padding = kPaddingInfinite;
-  } else if (!flags.padding.empty()) {
-    std::size_t used = 0;
-    int value = -1;
-    try {
-      value = std::stoi(flags.padding, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != flags.padding.size() || value < 0 || value > kMaxAtlasSize) {
-      return make_error(
-          ErrorCode::kInvalidArgument,
-          "--padding '" + flags.padding + "' is not a texel count (0 .. 16384) or 'inf'");
-    }
-    o.padding = value;
-  }
+  Expected<int> padding = parse_padding(flags.padding);
+  if (!padding) return padding.error();
+  o.padding = *padding;
   if (Status s = validate_write(output, atlas_write_options(flags), /*atlas=*/true); !s) {
     return s.error();
   }

@@ -72,36 +72,12 @@ struct BakeCliOptions {
   std::function<void(const std::string&)> on_report;  // CliHooks::on_report
 };
 
-// Parses "R,G,B" or "R,G,B,A", each a number in [0, 1]. Throws
-// CLI::ValidationError naming the flag (exit 2).
+// Parses "R,G,B" or "R,G,B,A", each a number in [0, 1] (texbake::parse_color).
+// Throws CLI::ValidationError with the library's message, naming the flag (exit 2).
 Rgba parse_color(const std::string& text, const std::string& flag) {
-  Rgba c{0, 0, 0, 1};
-  std::stringstream in(text);
-  std::string part;
-  int n = 0;
-  while (std::getline(in, part, ',')) {
-    if (n == 4) break;
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(part, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != part.size() || !(value >= 0 && value <= 1)) {
-      throw CLI::ValidationError(flag, "'" + text +
-                                           "' is not a colour R,G,B[,A] with components in [0, 1] "
-                                           "(e.g. 1,0,0 for red)");
-    }
-    c[n++] = static_cast<float>(value);
-  }
-  if ((n != 3 && n != 4) || (!text.empty() && text.back() == ',') ||
-      std::count(text.begin(), text.end(), ',') != n - 1) {
-    throw CLI::ValidationError(flag, "'" + text +
-                                         "' is not a colour R,G,B[,A] with components in [0, 1] "
-                                         "(e.g. 1,0,0 for red)");
-  }
-  return c;
+  Expected<Rgba> c = texbake::parse_color(text, flag);
+  if (!c) throw CLI::ValidationError(c.error().message);
+  return *c;
 }
 
 // Adds --flag accepting one of `keywords` or a colour.
@@ -582,34 +558,38 @@ RunFunction add_bake_command(CLI::App& app, const CliHooks& hooks) {
   add_atlas_flags(*cmd, o->atlas);
   cmd->add_flag("--ascii", o->ascii, "vertex target, .ply: ASCII instead of binary little-endian");
 
-  add_choice_option(*cmd, "--filter", o->filter,
-                    {{"bilinear", VertexFilter::kBilinear},
-                     {"area", VertexFilter::kArea},
-                     {"ewa", VertexFilter::kEwa}},
-                    "vertex: bilinear (sample at the vertex), area (average of --samples over "
-                    "the vertex's share of its triangles, default) or ewa (one elliptical "
-                    "weighted average over a MIP pyramid, sized by the vertex's share; a "
-                    "MIP-mapped texture file's own levels, as maketx writes them, are used); "
-                    "atlas: bilinear (default) or ewa (each supersample filtered by its "
-                    "footprint)");
+  add_choice_option<VertexFilter>(
+      *cmd, "--filter", o->filter,
+      "vertex: bilinear (sample at the vertex), area (average of --samples over "
+      "the vertex's share of its triangles, default) or ewa (one elliptical "
+      "weighted average over a MIP pyramid, sized by the vertex's share; a "
+      "MIP-mapped texture file's own levels, as maketx writes them, are used); "
+      "atlas: bilinear (default) or ewa (each supersample filtered by its "
+      "footprint)");
   cmd->add_option_function<int>(
-         "--samples", [o](int n) { o->samples = n; },
-         "vertex: samples per vertex for --filter area (default 16, 1..65536); atlas: "
-         "supersamples per texel (default 4, 1..256)")
-      ->check(CLI::Range(1, kMaxVertexSamples));
+      "--samples",
+      [o](int n) {
+        // The vertex range (the library's message); an atlas's smaller one
+        // is checked with the atlas options.
+        if (Status s = check_range("--samples", n, 1, kMaxVertexSamples); !s) {
+          throw CLI::ValidationError(s.error().message);
+        }
+        o->samples = n;
+      },
+      "vertex: samples per vertex for --filter area (default 16, 1..65536); atlas: "
+      "supersamples per texel (default 4, 1..256)");
 
-  add_choice_option(*cmd, "--visibility", o->visibility,
-                    {{"first", Visibility::kFirst}, {"all", Visibility::kAll}},
-                    "first: only what the projector sees is coloured (default); all: no test");
+  add_choice_option<Visibility>(
+      *cmd, "--visibility", o->visibility,
+      "first: only what the projector sees is coloured (default); all: no test");
   add_keyword_or_color(*cmd, "--occluded", o->occluded, {"fill", "project"},
                        "occluded points: fill (smooth from visible neighbours, default), "
                        "project (projected colour anyway) or a colour R,G,B[,A] in [0,1]");
   add_keyword_or_color(*cmd, "--outside", o->outside, {"clamp"},
                        "points outside the proxy's (u,v) domain: clamp (edge texel, default) "
                        "or a colour R,G,B[,A] in [0,1]");
-  add_choice_option<std::optional<WrapMode>>(
-      *cmd, "--wrap", o->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
-      "plane proxy only: clamp (default) or repeat (tile)");
+  add_choice_option<WrapMode>(*cmd, "--wrap", o->wrap,
+                              "plane proxy only: clamp (default) or repeat (tile)");
   cmd->add_flag("--linear", o->linear,
                 "interpolate and average in linear light (an sRGB texture; a linear one always "
                 "is)");

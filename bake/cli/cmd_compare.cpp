@@ -36,6 +36,7 @@ int run_compare(const CompareArgs& args) {
   if (!args.background.empty()) {
     for (std::size_t c = 0; c < 3; ++c) options.background[c] = args.background[c];
   }
+  if (Status s = validate_options(options); !s) return report_error(s.error());
   auto result = compare_image_files(args.a, args.b, options);
   if (!result) return report_error(result.error());
   const CompareResult& r = *result;
@@ -73,8 +74,7 @@ RunFunction add_compare_command(CLI::App& app) {
                   "R,G,B background colour in [0, 1] for images without alpha "
                   "(default: texbake render's, 0.3,0.3,0.35)")
       ->delimiter(',')
-      ->expected(3)
-      ->check(CLI::Range(0.0, 1.0));
+      ->expected(3);
   return [args] { return run_compare(*args); };
 }
 

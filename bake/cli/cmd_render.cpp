@@ -36,7 +36,7 @@ struct RenderArgs {
   std::vector<double> view;  // AZ,EL
   int views = 1;
   bool shadows = false;
-  int samples = 4;
+  int samples = kRenderSamples;
   int threads = 0;
   bool flat = false;
   std::vector<float> background;
@@ -51,35 +51,14 @@ struct RenderArgs {
   std::string colmap;  // --colmap DIR: each view a photo of a COLMAP workspace
 };
 
-// "WxH" with positive integers.
+// "WxH" with integers (their range: validate_options).
 std::optional<std::pair<int, int>> parse_size(const std::string& s) {
   int w = 0, h = 0;
   char x = 0, extra = 0;
   if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
     return std::nullopt;
   }
-  if (w <= 0 || h <= 0 || w > 32768 || h > 32768) return std::nullopt;
   return std::make_pair(w, h);
-}
-
-// "R,G,B" or "R,G,B,A", each a number in [0, 1]; alpha defaults to 1.
-std::optional<Rgba> parse_color(const std::string& text) {
-  Rgba c{0, 0, 0, 1};
-  std::size_t n = 0, pos = 0;
-  while (n < 4) {
-    const std::size_t comma = text.find(',', pos);
-    const std::string part = text.substr(pos, comma == std::string::npos ? comma : comma - pos);
-    char* end = nullptr;
-    const double v = std::strtod(part.c_str(), &end);
-    if (part.empty() || *end != '\0' || !(v >= 0 && v <= 1)) return std::nullopt;
-    c[n++] = static_cast<float>(v);
-    if (comma == std::string::npos) break;
-    pos = comma + 1;
-  }
-  if (n < 3 || pos > text.size() || (n == 4 && text.find(',', pos) != std::string::npos)) {
-    return std::nullopt;
-  }
-  return c;
 }
 
 std::filesystem::path default_output(const std::string& mesh) {
@@ -132,9 +111,9 @@ int run_render(const RenderArgs& args) {
   RenderOptions options;
   const auto size = parse_size(args.size);
   if (!size) {
-    return report_error(
-        ErrorCode::kInvalidArgument,
-        "--size: expected WxH with positive integers up to 32768, got '" + args.size + "'");
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--size: expected WxH with positive integers up to " +
+                            std::to_string(kMaxRenderSize) + ", got '" + args.size + "'");
   }
   options.width = size->first;
   options.height = size->second;
@@ -159,6 +138,8 @@ int run_render(const RenderArgs& args) {
   if (!args.background.empty()) {
     for (int c = 0; c < 3; ++c) options.background[c] = args.background[c];
   }
+  // The library's checks and messages (texbake::validate_options).
+  if (Status st = validate_options(options); !st) return report_error(st.error());
 
   // --texture and --proxy/--proxy-file go together: direct projection.
   const bool projecting = args.geometry.kind || args.geometry.proxy_file;
@@ -180,12 +161,9 @@ int run_render(const RenderArgs& args) {
   }
   std::optional<Rgba> outside;
   if (args.outside != "clamp") {
-    outside = parse_color(args.outside);
-    if (!outside) {
-      return report_error(
-          ErrorCode::kInvalidArgument,
-          "--outside: expected clamp or R,G,B[,A] in [0, 1], got '" + args.outside + "'");
-    }
+    Expected<Rgba> color = parse_color(args.outside, "--outside");
+    if (!color) return report_error(color.error());
+    outside = *color;
   }
   // A complete proxy (all geometry flags, or a file) is validated now;
   // missing geometry flags are fitted to the mesh once it is loaded.
@@ -355,12 +333,10 @@ RunFunction add_render_command(CLI::App& app) {
       ->delimiter(',')
       ->expected(2);
   cmd->add_option("--views", args->views,
-                  "contact sheet of N views at evenly spaced azimuths, in a grid")
-      ->check(CLI::Range(1, 64))
+                  "contact sheet of N views at evenly spaced azimuths, in a grid (1..64)")
       ->capture_default_str();
   cmd->add_flag("--shadows", args->shadows, "shadow rays towards the key light");
-  cmd->add_option("--samples", args->samples, "jittered samples per pixel (antialiasing)")
-      ->check(CLI::Range(1, 1024))
+  cmd->add_option("--samples", args->samples, "jittered samples per pixel (antialiasing, 1..1024)")
       ->capture_default_str();
   cmd->add_option("--threads", args->threads, "worker threads (0 = all cores)")
       ->check(CLI::NonNegativeNumber)
@@ -375,8 +351,8 @@ RunFunction add_render_command(CLI::App& app) {
                   "R,G,B[,A] in [0, 1]; a camera's points off its photo or behind it are grey "
                   "unless R,G,B[,A] is given")
       ->capture_default_str();
-  add_choice_option<std::optional<WrapMode>>(
-      *cmd, "--wrap", args->wrap, {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}},
+  add_choice_option<WrapMode>(
+      *cmd, "--wrap", args->wrap,
       "plane proxy only: clamp (default) or repeat (tile), as in texbake bake");
   add_texture_colorspace_flag(*cmd, args->texture_colorspace,
                               "the texture read (--texture, or the mesh's own atlas)");
@@ -393,8 +369,7 @@ RunFunction add_render_command(CLI::App& app) {
                   "reads; written all together or not at all");
   cmd->add_option("--background", args->background, "R,G,B background in [0, 1]")
       ->delimiter(',')
-      ->expected(3)
-      ->check(CLI::Range(0.0, 1.0));
+      ->expected(3);
   add_choice_option<ColorChoice>(
       *cmd, "--colors", args->colors,
       {{"auto", ColorChoice::kAuto},
@@ -403,13 +378,7 @@ RunFunction add_render_command(CLI::App& app) {
        {"none", ColorChoice::kNone}},
       "colour source without --texture: auto (atlas, else vertex colours, "
       "else grey), vertex, atlas or none");
-  return [args] {
-    if (!args->view.empty() && !(args->view[1] >= -90 && args->view[1] <= 90)) {
-      return report_error(ErrorCode::kInvalidArgument,
-                          "--view: elevation must be in [-90, 90] degrees");
-    }
-    return run_render(*args);
-  };
+  return [args] { return run_render(*args); };
 }
 
 }  // namespace texbake::cli

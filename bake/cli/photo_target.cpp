@@ -215,7 +215,7 @@ int run_photo_bake(const PhotoJob& job) {
   options.occluded_color = job.occluded_color;
   options.color_space = job.color_space;
   options.strict_photos = job.flags.strict_photos;
-  if (job.single) options.max_view_angle_deg = 90;
+  if (job.single) options = camera_proxy_options(options);
   ProgressBar bar(!job.quiet && ProgressBar::stderr_is_terminal());
   RunOptions run;
   run.threads = job.threads;

@@ -10,6 +10,7 @@
 
 #include "bake/cli/choice_option.h"
 #include "mesh_io/image_io.h"
+#include "texbake/texbake.h"
 
 namespace texbake::cli {
 
@@ -18,26 +19,30 @@ namespace texbake::cli {
 // the texture(s) it applies to in --help.
 inline CLI::Option* add_texture_colorspace_flag(CLI::App& cmd, TextureColorSpace& target,
                                                 const std::string& what) {
-  return add_choice_option(cmd, "--texture-colorspace", target,
-                           {{"auto", TextureColorSpace::kAuto},
-                            {"srgb", TextureColorSpace::kSrgb},
-                            {"linear", TextureColorSpace::kLinear}},
-                           "colour space of " + what +
-                               ": auto (default: as OpenImageIO reports it; untagged float/half "
-                               "files linear, 8/16-bit sRGB), srgb or linear (overrides the file)");
+  return add_choice_option<TextureColorSpace>(
+      cmd, "--texture-colorspace", target,
+      "colour space of " + what +
+          ": auto (default: as OpenImageIO reports it; untagged float/half "
+          "files linear, 8/16-bit sRGB), srgb or linear (overrides the file)");
 }
 
-// Adds --cache-mb N (1 .. 2^24 MiB, default kDefaultCacheMb) to `cmd`.
+// Adds --cache-mb N (default kDefaultCacheMb; texbake::check_cache_mb's
+// range, 1 .. 2^24 MiB, and message) to `cmd`.
 inline CLI::Option* add_cache_mb_flag(CLI::App& cmd, std::size_t& target) {
   return cmd
-      .add_option("--cache-mb", target,
-                  "memory budget for the texture (or each layer's texture and mask) in MiB "
-                  "(default " +
-                      std::to_string(kDefaultCacheMb) +
-                      "): a texture whose float RGBA copies would not fit, or larger than "
-                      "16384 x 16384, is read in tiles on demand through OpenImageIO's "
-                      "ImageCache (same results, bit for bit)")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 24));
+      .add_option_function<long long>(
+          "--cache-mb",
+          [&target](long long mb) {
+            if (Status s = check_cache_mb(mb); !s) throw CLI::ValidationError(s.error().message);
+            target = static_cast<std::size_t>(mb);
+          },
+          "memory budget for the texture (or each layer's texture and mask) in MiB "
+          "(default " +
+              std::to_string(kDefaultCacheMb) +
+              "): a texture whose float RGBA copies would not fit, or larger than "
+              "16384 x 16384, is read in tiles on demand through OpenImageIO's "
+              "ImageCache (same results, bit for bit)")
+      ->type_name("N");
 }
 
 }  // namespace texbake::cli

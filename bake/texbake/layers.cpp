@@ -160,6 +160,7 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
                                                      const RunOptions& run) {
   const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
+  if (Status s = validate_options(options); !s) return s.error();
   if (Status s = check_layer_specs(spec); !s) return s.error();
   if (Status s = check_triangles(mesh); !s) return s.error();
   Progress progress(run.progress);
@@ -221,6 +222,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
                                                     const RunOptions& run) {
   const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
+  if (Status s = validate_options(options); !s) return s.error();
   if (Status s = check_layer_specs(spec); !s) return s.error();
   if (atlas.uv == UvLayout::kProxy) {
     return make_error(ErrorCode::kInvalidArgument,

@@ -10,6 +10,8 @@
 #include "bake/util/timing.h"
 #include "mesh_io/camera_json.h"
 #include "mesh_io/colmap_model.h"
+#include "mesh_io/proxy_json.h"
+#include "mesh_io/regular_file.h"
 #include "texbake/texbake.h"
 
 namespace texbake {
@@ -82,11 +84,32 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
   return photos;
 }
 
+Expected<std::vector<Photo>> read_camera_proxy(const fs::path& camera_file, const fs::path& photo) {
+  Expected<Projector> projector = read_projector_file(camera_file);
+  if (!projector) return projector.error();
+  const CameraProjector* camera = as_camera(*projector);
+  if (!camera) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      camera_file.string() +
+                          " holds an analytic proxy, not a camera (bake it with an image "
+                          "through the proxy)");
+  }
+  return std::vector<Photo>{{photo.filename().string(), *camera, photo}};
+}
+
+PhotoBakeOptions camera_proxy_options(PhotoBakeOptions options) {
+  options.exposure = ExposureMode::kNone;
+  options.max_view_angle_deg = 90;
+  options.strict_photos = true;  // one photo: without it there is nothing to bake
+  return options;
+}
+
 Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
                                                      const std::vector<Photo>& photos,
                                                      const PhotoBakeOptions& options,
                                                      const RunOptions& run) {
   const auto start = Clock::now();
+  if (Status s = validate_options(options); !s) return s.error();
   if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
   if (Status s = check_triangles(mesh); !s) return s.error();
   Progress progress(run.progress);
@@ -127,6 +150,7 @@ Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
                                                     const RunOptions& run) {
   const auto start = Clock::now();
   if (Status s = validate_options(atlas); !s) return s.error();
+  if (Status s = validate_options(options); !s) return s.error();
   if (atlas.uv == UvLayout::kProxy) {
     return make_error(ErrorCode::kInvalidArgument,
                       "--uv proxy needs a proxy, and a bake from photos has none (use --uv "

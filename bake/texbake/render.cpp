@@ -14,6 +14,7 @@ namespace texbake {
 Expected<Rendered> render_mesh(const MeshData& mesh, const ColorSource& source,
                                const RenderOptions& options, const RunOptions& run) {
   const auto start = Clock::now();
+  if (Status s = validate_options(options); !s) return s.error();
   if (Status s = validate_color_source(mesh, source); !s) return s.error();
   if (Status s = check_triangles(mesh); !s) return s.error();
   Progress progress(run.progress);

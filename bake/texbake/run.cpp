@@ -111,20 +111,16 @@ Status check_image(const ImageView& image) {
 }
 
 Status check_shading_colors(const VertexBakeOptions& options) {
-  auto in_unit = [](const Rgba& c) {
-    for (float x : c) {
-      if (!(x >= 0 && x <= 1)) return false;
-    }
-    return true;
+  auto check = [](const Rgba& c, std::string_view flag) -> Status {
+    const double d[4] = {c[0], c[1], c[2], c[3]};
+    Expected<Rgba> checked = color_from_components(d, flag);
+    if (!checked) return checked.error();
+    return ok_status();
   };
-  if (options.occluded == OccludedMode::kColor && !in_unit(options.occluded_color)) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "--occluded: colour components must lie in [0, 1]");
+  if (options.occluded == OccludedMode::kColor) {
+    if (Status s = check(options.occluded_color, "--occluded"); !s) return s;
   }
-  if (options.outside == OutsideMode::kColor && !in_unit(options.outside_color)) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "--outside: colour components must lie in [0, 1]");
-  }
+  if (options.outside == OutsideMode::kColor) return check(options.outside_color, "--outside");
   return ok_status();
 }
 

@@ -169,6 +169,101 @@ Expected<CompletedProxy> complete_proxy(const ProxySpec& spec, const MeshData& m
                                         const RunOptions& run = {},
                                         ParamNaming naming = ParamNaming::kKey);
 
+// ---- Option values (every client's checks) --------------------------------
+//
+// The command line, batch and Python spell an option each their own way
+// (--samples 0, "samples": 0, samples=0) but check it here, so a bad value
+// gets one message naming the option by its CLI flag, whoever gave it
+// (kUsage). The option structs hold the defaults; the tables below hold
+// the names of the keyword values; the checks hold the ranges.
+
+// The names of an enum option's values, in --help's order: choices(E{})
+// for VertexFilter (--filter), Visibility (--visibility), WrapMode
+// (--wrap), UvLayout (--uv), AtlasFormat (--format), PhotoBlend (--blend),
+// ExposureMode (--exposure), TextureColorSpace (--texture-colorspace).
+template <class E>
+struct Choice {
+  const char* name;
+  E value;
+};
+std::span<const Choice<VertexFilter>> choices(VertexFilter);
+std::span<const Choice<Visibility>> choices(Visibility);
+std::span<const Choice<WrapMode>> choices(WrapMode);
+std::span<const Choice<UvLayout>> choices(UvLayout);
+enum class AtlasFormat;
+std::span<const Choice<AtlasFormat>> choices(AtlasFormat);
+std::span<const Choice<PhotoBlend>> choices(PhotoBlend);
+std::span<const Choice<ExposureMode>> choices(ExposureMode);
+std::span<const Choice<TextureColorSpace>> choices(TextureColorSpace);
+
+// "FLAG: unknown value 'TEXT' (expected a, b or c)" for `names`.
+Error unknown_choice(std::string_view flag, std::string_view text,
+                     std::span<const char* const> names);
+
+// The value named `text` among choices(E{}); kUsage unknown_choice otherwise.
+template <class E>
+Expected<E> parse_choice(std::string_view text, std::string_view flag) {
+  std::vector<const char*> names;
+  for (const Choice<E>& c : choices(E{})) {
+    if (text == c.name) return c.value;
+    names.push_back(c.name);
+  }
+  return unknown_choice(flag, text, names);
+}
+
+// The name of `value` in choices(E{}).
+template <class E>
+const char* choice_name(E value) {
+  for (const Choice<E>& c : choices(E{})) {
+    if (c.value == value) return c.name;
+  }
+  return "";
+}
+
+inline constexpr std::size_t kMaxCacheMb = std::size_t{1} << 24;  // --cache-mb
+inline constexpr int kMaxThreads = 4096;                          // --threads
+inline constexpr int kMaxRenderSize = 32768;                      // render --size, per side
+inline constexpr int kMaxRenderViews = 64;                        // render --views
+inline constexpr int kMaxRenderSamples = 1024;                    // render --samples
+inline constexpr int kRenderSamples = 4;  // render --samples' default (RenderOptions' is 1)
+
+// "FLAG VALUE is out of range (LO .. HI)" unless lo <= value <= hi.
+Status check_range(std::string_view flag, long long value, long long lo, long long hi);
+
+// --cache-mb: 1 .. kMaxCacheMb MiB.
+Status check_cache_mb(long long cache_mb);
+
+// A colour of 3 or 4 components (alpha = false: exactly 3), each in [0, 1]:
+// "FLAG: 'C' is not a colour R,G,B[,A] with components in [0, 1] (e.g. 1,0,0
+// for red)", C the components as given (the text, or the numbers with %g).
+Expected<Rgba> color_from_components(std::span<const double> components, std::string_view flag,
+                                     bool alpha = true);
+// The same from the CLI's text "R,G,B[,A]" (numbers separated by commas).
+Expected<Rgba> parse_color(std::string_view text, std::string_view flag, bool alpha = true);
+
+// --padding as text: "" (kPaddingDefault), "inf" (kPaddingInfinite) or a
+// texel count 0 .. kMaxAtlasSize: "--padding 'T' is not a texel count (0 ..
+// 16384) or 'inf'" otherwise.
+Expected<int> parse_padding(std::string_view text);
+
+// texbake render's options: --size (1 .. kMaxRenderSize per side), --views
+// (1 .. kMaxRenderViews), --samples (1 .. kMaxRenderSamples), --view (a
+// finite azimuth, an elevation in [-90, 90]), --up (finite, not zero) and
+// --background (components in [0, 1]). render_mesh checks them first.
+Status validate_options(const RenderOptions& options);
+
+// texbake compare's --background (components in [0, 1]).
+Status validate_options(const CompareOptions& options);
+
+// The photo bakes' --occluded colour (components in [0, 1]) and
+// max_view_angle_deg in (0, 90]; the photo bakes check them first.
+Status validate_options(const PhotoBakeOptions& options);
+
+// The layers bakes' --occluded and base colours (components in [0, 1]);
+// the layers bakes check them first. cache_mb 0 (decoded whole) is the
+// API's; the CLI's --cache-mb is check_cache_mb's range.
+Status validate_options(const LayersBakeOptions& options);
+
 // ---- Large textures (SPEC section 13) -------------------------------------
 
 // How a bake reads its texture with the memory budget `cache_mb` (MiB,
@@ -240,6 +335,21 @@ enum class PhotoFolder { kNeeded, kNotNeeded };
 Expected<std::vector<Photo>> read_cameras(const std::filesystem::path& cameras,
                                           const std::filesystem::path& images = {},
                                           PhotoFolder need = PhotoFolder::kNeeded);
+
+// A camera proxy file (SPEC section 9: a proxy file of "kind": "camera")
+// and its photo as the one-photo list of the photo bakes, which take it
+// with camera_proxy_options: `texbake bake MESH --texture PHOTO
+// --proxy-file CAMERA`. The photo is read by the bake. Errors: kInput (the
+// file or its content, naming it and the key), kUsage (the file holds an
+// analytic proxy: bake_vertex_colors and bake_atlas_texture take it).
+Expected<std::vector<Photo>> read_camera_proxy(const std::filesystem::path& camera_file,
+                                               const std::filesystem::path& photo);
+
+// `options` with the rules of one camera given as a proxy: exposure kNone
+// (one photo: nothing to balance), max_view_angle_deg 90 (a point is seen
+// unless it faces away) and strict_photos (a photo that cannot be read is an
+// error: without it there is nothing to bake).
+PhotoBakeOptions camera_proxy_options(PhotoBakeOptions options);
 
 struct PhotoColors {
   std::vector<Rgba> colors;               // one per vertex, sRGB-encoded RGBA in [0, 1]

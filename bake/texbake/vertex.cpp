@@ -54,11 +54,8 @@ Expected<VertexColors> bake(const MeshData& mesh, const ImageView& image, const 
 }  // namespace
 
 Status validate_options(const VertexBakeOptions& options) {
-  if (options.filter == VertexFilter::kArea &&
-      (options.samples < 1 || options.samples > kMaxVertexSamples)) {
-    return make_error(ErrorCode::kInvalidArgument, "--samples " + std::to_string(options.samples) +
-                                                       " is out of range (1 .. " +
-                                                       std::to_string(kMaxVertexSamples) + ")");
+  if (options.filter == VertexFilter::kArea) {
+    if (Status s = check_range("--samples", options.samples, 1, kMaxVertexSamples); !s) return s;
   }
   return detail::check_shading_colors(options);
 }

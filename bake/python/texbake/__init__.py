@@ -25,7 +25,20 @@ and `faces` (m, 3) in its place: bake_vertex(vertices, faces, image, proxy).
 Errors raise ValueError (a bad argument or option: the command line's exit
 2), OSError (a file, or a mesh the job cannot work on: exit 1), RuntimeError
 (an internal failure) or texbake.Cancelled (the progress callback returned
-False), with the command line's messages.
+False), with the command line's messages. Options are checked by the same
+library checks as the command line's flags, so a bad value raises
+ValueError with the message the CLI prints for that flag (e.g. samples=0:
+"--samples 0 is out of range (1 .. 65536)"), whatever its type (1.5 where
+a count is due, None where a proxy is).
+
+Non-finite numbers: arrays of geometry (vertices, uvs, normals, colors)
+must be finite and within float32's range (ValueError naming the array and
+the first bad row); NaN or infinite values of an image (an array or a
+file) are read as 0 with a RuntimeWarning naming it and the count, as the
+command line warns for a texture.
+
+Every default is the command line's, read from the library's option
+structs (texbake.DEFAULTS).
 
 Long calls release the GIL. `progress(stage, fraction)`, when given, is
 called with the GIL held, never concurrently with itself; returning False
@@ -34,7 +47,6 @@ and propagates. `threads=0` uses all cores; results never depend on it.
 """
 
 import json as _json
-import os as _os
 
 import numpy as _np
 
@@ -43,12 +55,20 @@ from ._texbake import Atlas, Cancelled, Mesh  # noqa: F401
 
 __version__ = _texbake.version()
 
+#: The defaults of every call's options, by group (vertex, atlas, photos,
+#: layers, render, compare): the library's option structs' defaults, which
+#: are the command line's.
+DEFAULTS = _texbake.defaults()
+_V, _A, _P, _L, _R = (DEFAULTS[k] for k in ("vertex", "atlas", "photos", "layers", "render"))
+
 __all__ = [
     "ImageArray",
     "image",
-    "Atlas", "Cancelled", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
-    "bake_vertex", "bake_vertex_from_layers", "bake_vertex_from_photos", "compare", "fit", "map", "read_image", "read_mesh",
-    "render",
+    "Atlas", "Cancelled", "DEFAULTS", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
+    "bake_atlas_from_camera", "bake_atlas_from_layers", "bake_atlas_from_photos",
+    "bake_vertex", "bake_vertex_from_camera", "bake_vertex_from_layers",
+    "bake_vertex_from_photos", "check_cameras", "compare", "fit", "map", "read_image",
+    "read_mesh", "render",
     "write_atlas", "write_image", "write_vertex_colors",
 ]
 
@@ -97,7 +117,7 @@ def read_mesh(path):
     and `issues` (degenerate triangles, unreferenced vertices, non-manifold
     edges). Errors: OSError naming the file (and line).
     """
-    return _texbake.read_mesh(_os.fspath(path))
+    return _texbake.read_mesh(path)
 
 
 class ImageArray(_np.ndarray):
@@ -133,7 +153,7 @@ def read_image(path, colorspace="auto"):
     integer data sRGB), or `colorspace` ('srgb' or 'linear') when given, as
     --texture-colorspace. Errors: OSError, ValueError.
     """
-    values, space = _texbake.read_image(_os.fspath(path), colorspace)
+    values, space = _texbake.read_image(path, colorspace)
     return image(values, space)
 
 
@@ -170,7 +190,7 @@ class Proxy:
 
     def write(self, path):
         """Write the proxy as a JSON file for --proxy-file (atomically)."""
-        self._native.write(_os.fspath(path))
+        self._native.write(path)
 
     def __repr__(self):
         return f"texbake.Proxy({self.to_json()})"
@@ -224,7 +244,7 @@ class Proxy:
         that cannot be read or whose content is wrong, as --proxy-file."""
         if isinstance(source, dict):
             return Proxy(_texbake.proxy_from_json(_json.dumps(source), "proxy JSON"))
-        return Proxy(_texbake.read_proxy_file(_os.fspath(source)))
+        return Proxy(_texbake.read_proxy_file(source))
 
 
 def fit(*mesh_kind, up="z", threads=0, **given):
@@ -245,14 +265,15 @@ def map(proxy, points):  # noqa: A001 (the command's name)
     status codes index texbake.STATUS (0 ok, 1 outside, 2 undefined);
     direction is d(P), the unit vector from P towards the projector.
     """
-    return _texbake.map(proxy._native, points)
+    return _texbake.map(proxy, points)
 
 
 # ---- Bakes -----------------------------------------------------------------
 
-def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first",
-                occluded="fill", outside="clamp", linear=False, wrap="clamp", cache_mb=1024,
-                threads=0, progress=None):
+def bake_vertex(*mesh_image_proxy, filter=_V["filter"], samples=_V["samples"],
+                visibility=_V["visibility"], occluded=_V["occluded"], outside=_V["outside"],
+                linear=_V["linear"], wrap=_V["wrap"], cache_mb=_V["cache_mb"], threads=0,
+                progress=None):
     """bake_vertex(mesh, image, proxy, ...) or bake_vertex(vertices, faces, image, proxy, ...):
     one colour per vertex (`texbake bake ... --target vertex`).
 
@@ -263,17 +284,19 @@ def bake_vertex(*mesh_image_proxy, filter="area", samples=16, visibility="first"
     OpenImageIO's ImageCache, with the same results. Options as the command line's:
     filter 'area' | 'bilinear' | 'ewa', samples (1..65536, area only), visibility
     'first' | 'all', occluded 'fill' | 'project' | (r, g, b[, a]), outside
-    'clamp' | (r, g, b[, a]), linear, wrap 'clamp' | 'repeat' (plane only).
+    'clamp' | (r, g, b[, a]), linear, wrap 'clamp' | 'repeat' (plane only),
+    cache_mb 1..16777216. Bad values raise ValueError with the CLI's message.
     Returns (colors (n, 4) float32 in the input's vertex order, stats dict:
     counts, timings in seconds, warnings). Progress stages: 'bake', 'fill'.
     """
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_vertex")
-    return _texbake.bake_vertex(mesh, image, proxy._native, filter, samples, visibility,
+    return _texbake.bake_vertex(mesh, image, proxy, filter, samples, visibility,
                                 occluded, outside, linear, wrap, cache_mb, threads, progress)
 
 
-def bake_vertex_from_photos(*mesh, cameras, images=None, blend="soft", exposure="gain",
-                            occluded="fill", colorspace="auto", strict_photos=False, threads=0,
+def bake_vertex_from_photos(*mesh, cameras, images=None, blend=_P["blend"],
+                            exposure=_P["exposure"], occluded=_P["occluded"],
+                            colorspace=_P["colorspace"], strict_photos=False, threads=0,
                             progress=None):
     """bake_vertex_from_photos(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
     one colour per vertex from calibrated photographs (`texbake bake MESH --cameras PATH`).
@@ -291,30 +314,32 @@ def bake_vertex_from_photos(*mesh, cameras, images=None, blend="soft", exposure=
     weight_share, gain (r, g, b)). Progress stage: 'photos'.
     """
     mesh = _mesh(mesh, 0, "bake_vertex_from_photos")[0]
-    return _texbake.bake_vertex_from_photos(mesh, str(cameras), "" if images is None else str(images),
-                                            blend, exposure, occluded, colorspace,
-                                            bool(strict_photos), threads, progress)
+    return _texbake.bake_vertex_from_photos(mesh, cameras, images, blend, exposure, occluded,
+                                            colorspace, bool(strict_photos), threads, progress)
 
 
-def bake_vertex_from_layers(*mesh, layers, occluded="fill", threads=0, progress=None):
+def bake_vertex_from_layers(*mesh, layers, occluded=_L["occluded"], cache_mb=_L["cache_mb"],
+                            threads=0, progress=None):
     """bake_vertex_from_layers(mesh, layers=PATH, ...) or (vertices, faces, layers=PATH, ...):
     one colour per vertex composited from a layers file (`texbake bake MESH
     --layers PATH`, SPEC section 10: its base, then every layer bottom first,
     in linear light; "cameras" layers included).
 
     occluded 'fill' | (r, g, b[, a]): vertices no layer and no base colour
-    cover (their alpha stays 0). Returns (colors (n, 4) float32, sRGB-encoded,
+    cover (their alpha stays 0); cache_mb: the memory budget for each layer's
+    texture and mask (--cache-mb). Returns (colors (n, 4) float32, sRGB-encoded,
     alpha = coverage; stats dict; layers: a list of dicts per layer with
     texture (or cameras), in_domain, visible, blended, mean_alpha, seconds).
     Progress stage: 'layers'.
     """
     mesh = _mesh(mesh, 0, "bake_vertex_from_layers")[0]
-    return _texbake.bake_vertex_from_layers(mesh, str(layers), occluded, threads, progress)
+    return _texbake.bake_vertex_from_layers(mesh, layers, occluded, cache_mb, threads, progress)
 
 
-def bake_atlas(*mesh_image_proxy, uv="auto", size=2048, samples=4, padding=None,
-               visibility="first", occluded="fill", outside="clamp", linear=False,
-               wrap="clamp", cache_mb=1024, threads=0, progress=None):
+def bake_atlas(*mesh_image_proxy, uv=_A["uv"], size=_A["size"], samples=_A["samples"],
+               padding=_A["padding"], visibility=_V["visibility"], occluded=_V["occluded"],
+               outside=_V["outside"], linear=_V["linear"], wrap=_V["wrap"],
+               cache_mb=_V["cache_mb"], threads=0, progress=None):
     """bake_atlas(mesh, image, proxy, ...) or bake_atlas(vertices, faces, image, proxy, ...):
     a texture atlas (`texbake bake ... --target atlas`).
 
@@ -329,9 +354,103 @@ def bake_atlas(*mesh_image_proxy, uv="auto", size=2048, samples=4, padding=None,
     Progress stages: 'uv_layout', 'sample'.
     """
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_atlas")
-    return _texbake.bake_atlas(mesh, image, proxy._native, uv, size, samples, padding,
+    return _texbake.bake_atlas(mesh, image, proxy, uv, size, samples, padding,
                                visibility, occluded, outside, linear, wrap, cache_mb, threads,
                                progress)
+
+
+def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_P["blend"],
+                           exposure=_P["exposure"], occluded=_P["occluded"],
+                           colorspace=_P["colorspace"], uv=_A["uv"], size=_A["size"],
+                           samples=_A["samples"], padding=_A["padding"], strict_photos=False,
+                           threads=0, progress=None):
+    """bake_atlas_from_photos(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
+    a texture atlas from calibrated photographs (`texbake bake MESH --cameras
+    PATH -o OUT.obj|.glb`).
+
+    cameras, images, blend, exposure, occluded, colorspace, strict_photos as
+    bake_vertex_from_photos; uv 'auto' | 'mesh' | 'generate' (no proxy here),
+    size, samples, padding as bake_atlas. Every atlas supersample is blended
+    from the photos that see it; unseen samples as `occluded` says. Returns
+    (atlas, cameras): a texbake.Atlas (write_atlas writes the CLI's bytes)
+    and a list of dicts per photo (image, photo (w, h), in_view and visible
+    counting atlas samples, weight_share, gain). Errors: ValueError (bad
+    options, uv='proxy', uv='mesh' on a mesh without UVs), OSError (the
+    model, a photo, the mesh). Progress stages: 'uv_layout', 'photos'.
+    """
+    mesh = _mesh(mesh, 0, "bake_atlas_from_photos")[0]
+    return _texbake.bake_atlas_from_photos(mesh, cameras, images, blend, exposure, occluded,
+                                           colorspace, bool(strict_photos), uv, size, samples,
+                                           padding, threads, progress)
+
+
+def bake_vertex_from_camera(*mesh, camera, photo, occluded=_P["occluded"],
+                            colorspace=_P["colorspace"], threads=0, progress=None):
+    """bake_vertex_from_camera(mesh, camera=PATH, photo=PATH, ...) or (vertices, faces, ...):
+    one colour per vertex from one photo through one calibrated camera given
+    as a proxy file (`texbake bake MESH --texture PHOTO --proxy-file CAMERA`,
+    SPEC section 9: a JSON proxy of "kind": "camera").
+
+    The photo is sampled through the camera's lens model, in linear light;
+    a vertex is seen unless it faces away (90 degrees) or is hidden along the
+    segment to the camera; no exposure balance (one photo). occluded 'fill' |
+    (r, g, b[, a]); colorspace 'auto' | 'srgb' | 'linear' (the photo's).
+    Returns (colors (n, 4) float32, stats dict, cameras: one dict, as
+    bake_vertex_from_photos). Errors: ValueError (bad options, a proxy file
+    that is not a camera), OSError (the files). Progress stage: 'photos'.
+    """
+    mesh = _mesh(mesh, 0, "bake_vertex_from_camera")[0]
+    return _texbake.bake_vertex_from_camera(mesh, camera, photo, occluded, colorspace, threads,
+                                            progress)
+
+
+def bake_atlas_from_camera(*mesh, camera, photo, occluded=_P["occluded"],
+                           colorspace=_P["colorspace"], uv=_A["uv"], size=_A["size"],
+                           samples=_A["samples"], padding=_A["padding"], threads=0,
+                           progress=None):
+    """bake_atlas_from_camera(mesh, camera=PATH, photo=PATH, ...) or (vertices, faces, ...):
+    a texture atlas from one photo through a camera proxy file (`texbake bake
+    MESH --texture PHOTO --proxy-file CAMERA -o OUT.obj|.glb`); the camera
+    rules of bake_vertex_from_camera, the atlas options of
+    bake_atlas_from_photos. Returns (atlas, cameras) as bake_atlas_from_photos.
+    """
+    mesh = _mesh(mesh, 0, "bake_atlas_from_camera")[0]
+    return _texbake.bake_atlas_from_camera(mesh, camera, photo, occluded, colorspace, uv, size,
+                                           samples, padding, threads, progress)
+
+
+def bake_atlas_from_layers(*mesh, layers, occluded=_L["occluded"], uv=_A["uv"], size=None,
+                           samples=_A["samples"], padding=_A["padding"],
+                           cache_mb=_L["cache_mb"], threads=0, progress=None):
+    """bake_atlas_from_layers(mesh, layers=PATH, ...) or (vertices, faces, layers=PATH, ...):
+    a texture atlas composited from a layers file (`texbake bake MESH
+    --layers PATH -o OUT.obj|.glb`, SPEC section 10).
+
+    uv 'auto' | 'mesh' | 'generate'; size None: the base texture's size
+    (base "mesh" on a textured mesh), else DEFAULTS["atlas"]["size"], as the
+    CLI without --size; samples, padding as bake_atlas; occluded and
+    cache_mb as bake_vertex_from_layers. The atlas has straight alpha =
+    coverage (Atlas.blend when a covered texel is not opaque). Returns
+    (atlas, layers): a texbake.Atlas and a list of dicts per layer (texture
+    or cameras, in_domain, visible, blended counting atlas samples,
+    mean_alpha, seconds). Errors: ValueError (bad options, uv='proxy', base
+    "mesh" with another layout), OSError (the layers file, an image, the
+    mesh). Progress stages: 'layers', 'uv_layout', 'sample'.
+    """
+    mesh = _mesh(mesh, 0, "bake_atlas_from_layers")[0]
+    return _texbake.bake_atlas_from_layers(mesh, layers, occluded, uv, size, samples, padding,
+                                           cache_mb, threads, progress)
+
+
+def check_cameras(*mesh, cameras, images=None, threads=0):
+    """check_cameras(mesh, cameras=PATH, images=None) or (vertices, faces, cameras=PATH, ...):
+    `texbake cameras check`: per photo a dict with image, in_front, inside
+    and visible (shares of the mesh's vertices in front of the camera, inside
+    its photo, visible from it, in [0, 1]) and warnings (poses that look like
+    convention errors). cameras and images as bake_vertex_from_photos.
+    Errors: ValueError, OSError (the model, a missing photo, the mesh)."""
+    mesh = _mesh(mesh, 0, "check_cameras")[0]
+    return _texbake.check_cameras(mesh, cameras, images, threads)
 
 
 def _atlas_face_uvs(atlas):
@@ -349,29 +468,31 @@ Atlas.face_uvs = property(_atlas_face_uvs,
 Atlas.__iter__ = _atlas_iter
 
 
-def render(*mesh, colors="auto", texture=None, proxy=None, atlas_image=None, outside="clamp",
-           wrap="clamp", linear=False, size=(512, 512), view=(0, 20), views=1, shadows=False,
-           samples=4, up="z", flat=False, background=None, threads=0, progress=None):
+def render(*mesh, colors="auto", texture=None, proxy=None, atlas_image=None,
+           outside=_V["outside"], wrap=_V["wrap"], linear=_V["linear"], size=_R["size"],
+           view=_R["view"], views=_R["views"], shadows=_R["shadows"], samples=_R["samples"],
+           up="z", flat=_R["flat"], background=None, threads=0, progress=None):
     """render(mesh, ...) or render(vertices, faces, ...): a Phong-shaded,
     ray-traced preview (`texbake render`). Colours: with texture and proxy,
     the direct projection at every hit (the ground truth); else colors
     'auto' (atlas_image through the mesh's UVs if given, else vertex
     colours, else grey), 'vertex', 'atlas', 'none'. size (w, h), view
-    (azimuth, elevation) degrees, views (a contact sheet), samples per pixel.
-    Returns (image (h, w, 4) float32, stats)."""
+    (azimuth, elevation) degrees (elevation in [-90, 90]), views (a contact
+    sheet, 1..64), samples per pixel (1..1024), background (r, g, b) in
+    [0, 1] (default DEFAULTS["render"]["background"]). Sizes up to 32768 per
+    side. Returns (image (h, w, 4) float32, stats)."""
     (m,) = _mesh(mesh, 0, "render")
-    return _texbake.render(m, colors, texture, None if proxy is None else proxy._native,
-                           atlas_image, outside, wrap, linear, size[0], size[1], view[0], view[1],
-                           views, shadows, samples, _up(up), flat, background, threads, progress)
+    return _texbake.render(m, colors, texture, proxy, atlas_image, outside, wrap, linear, size,
+                           view, views, shadows, samples, _up(up), flat, background, threads,
+                           progress)
 
 
 def compare(a, b, mask_background=False, background=None):
     """PSNR and largest difference of two images (`texbake compare`): file
-    paths or (h, w, c) arrays. Returns a dict: width, height, channels,
-    compared_pixels, rms, psnr (dB, inf when equal), max_difference, max_x,
-    max_y, max_channel."""
-    if isinstance(a, _os.PathLike):
-        a, b = _os.fspath(a), _os.fspath(b)
+    paths or (h, w, c) arrays (both of one kind: ValueError otherwise);
+    background (r, g, b) in [0, 1] for images without alpha. Returns a dict:
+    width, height, channels, compared_pixels, rms, psnr (dB, inf when equal),
+    max_difference, max_x, max_y, max_channel."""
     return _texbake.compare(a, b, mask_background, background)
 
 
@@ -384,7 +505,7 @@ def write_vertex_colors(path, mesh, colors, ascii=False, up="z"):
     same bytes as `texbake bake -o path`. `mesh` may be (vertices, faces)."""
     if not isinstance(mesh, Mesh):
         mesh = Mesh(*mesh)
-    _texbake.write_vertex_colors(_os.fspath(path), mesh, colors, ascii, _up(up))
+    _texbake.write_vertex_colors(path, mesh, colors, ascii, _up(up))
 
 
 def write_atlas(path, atlas, format="png8", up="z"):
@@ -392,16 +513,16 @@ def write_atlas(path, atlas, format="png8", up="z"):
     'png8' | 'png16' | 'exr') or .glb (embedded PNG; `up` as in
     write_vertex_colors). The set is replaced all together or not at all.
     atlas_files(path, format) names the files."""
-    _texbake.write_atlas(_os.fspath(path), atlas, format, _up(up))
+    _texbake.write_atlas(path, atlas, format, _up(up))
 
 
 def atlas_files(path, format="png8"):
     """The files write_atlas(path, ...) writes, the mesh file first."""
-    return _texbake.atlas_files(_os.fspath(path), format)
+    return _texbake.atlas_files(path, format)
 
 
 def write_image(path, image, bits=8, compression=6):
     """Write an (h, w, c) image atomically, the format by extension: PNG
     8-bit (bits=8) or 16-bit (bits=16), EXR float (bits=32); values clamped
     to [0, 1] for integer formats; `compression` is PNG's zlib level 0..9."""
-    _texbake.write_image(_os.fspath(path), image, bits, compression)
+    _texbake.write_image(path, image, bits, compression)

@@ -1,0 +1,162 @@
+"""Every job of the command line has a Python call giving the same bytes
+(issue #29 item 4): the atlas from photos, the atlas from layers, the
+camera proxy bakes (vertex and atlas) and cameras check. Each test runs the
+CLI's job and the Python call, writes the Python result with the library's
+writer under the same file name in another folder, and compares the files
+byte for byte (an atlas: OBJ, MTL and PNG)."""
+import json
+
+import numpy as np
+import pytest
+
+import texbake
+from conftest import DATA, run_cli
+
+BUNNY = DATA / "bunny00.off"
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory):
+    """Four unlit views of the bunny with the earth projected on it, as a COLMAP workspace."""
+    ws = tmp_path_factory.mktemp("jobs") / "ws"
+    r = run_cli("render", BUNNY, "--texture", DATA / "earth.jpg", "--proxy", "sphere",
+                "--center", "0,0,0", "--radius", "1", "--pole", "0,1,0", "--equator", "0,0,1",
+                "--up", "y", "--unlit", "--views", "4", "--size", "320x240", "--colmap", ws)
+    assert r.returncode == 0, r.stderr
+    return ws
+
+
+def same_files(cli_out, py_out):
+    """The atlas file set of each (atlas_files) exists and is byte-identical."""
+    cli_files, py_files = texbake.atlas_files(cli_out), texbake.atlas_files(py_out)
+    assert len(cli_files) == 3
+    for a, b in zip(cli_files, py_files):
+        with open(a, "rb") as fa, open(b, "rb") as fb:
+            assert fa.read() == fb.read(), (a, b)
+
+
+def test_atlas_from_photos_gives_the_cli_files(tmp_path, workspace):
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    cli_out, py_out = tmp_path / "cli" / "a.obj", tmp_path / "py" / "a.obj"
+    r = run_cli("bake", BUNNY, "--cameras", workspace / "sparse" / "0", "--size", "128",
+                "--occluded", "1,0,1", "-q", "--threads", "2", "-o", cli_out)
+    assert r.returncode == 0, r.stderr
+    mesh = texbake.read_mesh(BUNNY)
+    atlas, cameras = texbake.bake_atlas_from_photos(mesh, cameras=workspace / "sparse" / "0",
+                                                    size=128, occluded=(1, 0, 1), threads=1)
+    assert atlas.image.shape == (128, 128, 4)
+    assert atlas.uv_layout["used"] == "generate"  # the bunny has no UVs
+    texbake.write_atlas(py_out, atlas)
+    same_files(cli_out, py_out)
+    assert [c["image"] for c in cameras] == [f"view_0{k}.png" for k in range(4)]
+    assert sum(c["weight_share"] for c in cameras) == pytest.approx(1, abs=1e-9)
+
+
+def test_atlas_from_layers_gives_the_cli_files(tmp_path):
+    bottle, layers = DATA / "bottle.ply", DATA / "bottle_layers.json"
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    cli_out, py_out = tmp_path / "cli" / "b.obj", tmp_path / "py" / "b.obj"
+    report = tmp_path / "r.json"
+    r = run_cli("bake", bottle, "--layers", layers, "--size", "128", "-q", "--report", report,
+                "-o", cli_out)
+    assert r.returncode == 0, r.stderr
+    atlas, per_layer = texbake.bake_atlas_from_layers(texbake.read_mesh(bottle), layers=layers,
+                                                      size=128)
+    texbake.write_atlas(py_out, atlas)
+    same_files(cli_out, py_out)
+    cli = json.loads(report.read_text())["layers"]
+    assert [(l["in_domain"], l["visible"], l["blended"]) for l in per_layer] == \
+        [(l["in_domain"], l["visible"], l["blended"]) for l in cli]
+
+
+def test_atlas_from_layers_without_size_is_the_cli_default(tmp_path):
+    """size=None is the CLI without --size: 2048 for a base that is not a texture."""
+    bottle = DATA / "bottle.ply"
+    atlas, _ = texbake.bake_atlas_from_layers(texbake.read_mesh(bottle),
+                                              layers=DATA / "bottle_layers.json", samples=1)
+    assert atlas.image.shape == (2048, 2048, 4)
+
+
+def camera_file(ws, tmp_path, k):
+    """The camera of view k of the workspace as a camera proxy file (SPEC
+    section 9: kind camera, COLMAP's model, params and world-to-camera pose),
+    read from the workspace's text model."""
+    cams = {}
+    for line in (ws / "sparse" / "0" / "cameras.txt").read_text().splitlines():
+        if line and not line.startswith("#"):
+            f = line.split()
+            cams[f[0]] = {"model": f[1], "width": int(f[2]), "height": int(f[3]),
+                          "params": [float(x) for x in f[4:]]}
+    for line in (ws / "sparse" / "0" / "images.txt").read_text().splitlines():
+        f = line.split()  # a pose line: ID QW QX QY QZ TX TY TZ CAMERA_ID NAME
+        if not line.startswith("#") and len(f) == 10 and f[9] == f"view_0{k}.png":
+            cam = dict(cams[f[8]], kind="camera")
+            cam["pose"] = {"q_wxyz": [float(x) for x in f[1:5]],
+                           "t": [float(x) for x in f[5:8]]}
+            path = tmp_path / f"view_0{k}.json"
+            path.write_text(json.dumps(cam))
+            return path, ws / "images" / f[9]
+    raise AssertionError(f"view_0{k}.png not in images.txt")
+
+
+def test_vertex_from_camera_gives_the_cli_ply(tmp_path, workspace):
+    camera, photo = camera_file(workspace, tmp_path, 1)
+    cli_out, py_out = tmp_path / "cli.ply", tmp_path / "py.ply"
+    r = run_cli("bake", BUNNY, "--texture", photo, "--proxy-file", camera, "-q", "-o", cli_out)
+    assert r.returncode == 0, r.stderr
+    mesh = texbake.read_mesh(BUNNY)
+    colors, stats, cameras = texbake.bake_vertex_from_camera(mesh, camera=camera, photo=photo)
+    texbake.write_vertex_colors(py_out, mesh, colors)
+    assert py_out.read_bytes() == cli_out.read_bytes()
+    # One photo: no exposure balance (gain 1), all the weight.
+    assert len(cameras) == 1 and cameras[0]["gain"] == (1, 1, 1)
+    assert cameras[0]["weight_share"] == pytest.approx(1)
+    assert stats["counts"]["vertices"] == len(mesh.vertices)
+
+
+def test_atlas_from_camera_gives_the_cli_files(tmp_path, workspace):
+    camera, photo = camera_file(workspace, tmp_path, 2)
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    cli_out, py_out = tmp_path / "cli" / "c.glb", tmp_path / "py" / "c.glb"
+    r = run_cli("bake", BUNNY, "--texture", photo, "--proxy-file", camera, "--size", "64",
+                "--padding", "inf", "-q", "-o", cli_out)
+    assert r.returncode == 0, r.stderr
+    atlas, cameras = texbake.bake_atlas_from_camera(texbake.read_mesh(BUNNY), camera=camera,
+                                                    photo=photo, size=64, padding="inf")
+    texbake.write_atlas(py_out, atlas)
+    assert py_out.read_bytes() == cli_out.read_bytes()
+
+
+def test_camera_proxy_errors(tmp_path, bunny):
+    sphere = tmp_path / "s.json"
+    texbake.Proxy.sphere().write(sphere)
+    with pytest.raises(ValueError, match="holds an analytic proxy, not a camera"):
+        texbake.bake_vertex_from_camera(bunny, camera=sphere, photo=DATA / "earth.jpg")
+    with pytest.raises(OSError, match="missing.json"):
+        texbake.bake_vertex_from_camera(bunny, camera=tmp_path / "missing.json",
+                                        photo=DATA / "earth.jpg")
+
+
+def test_check_cameras_gives_the_cli_table(workspace):
+    r = run_cli("cameras", "check", BUNNY, "--cameras", workspace / "sparse" / "0", "--json")
+    assert r.returncode == 0, r.stderr
+    cli = json.loads(r.stdout)
+    checks = texbake.check_cameras(texbake.read_mesh(BUNNY), cameras=workspace / "sparse" / "0")
+    assert checks == cli
+    # Renders framed on the bunny see all of it in front and inside.
+    assert all(c["in_front"] == 1 and c["inside"] == 1 for c in checks)
+    assert all(0 < c["visible"] < 1 for c in checks)
+
+
+def test_new_calls_release_the_gil_and_report_progress(tmp_path, workspace):
+    stages = set()
+    texbake.bake_atlas_from_photos(texbake.read_mesh(BUNNY), cameras=workspace / "sparse" / "0",
+                                   size=32, progress=lambda s, f: stages.add(s))
+    assert {"uv_layout", "photos"} <= stages
+    with pytest.raises(texbake.Cancelled):
+        texbake.bake_atlas_from_layers(texbake.read_mesh(DATA / "bottle.ply"),
+                                       layers=DATA / "bottle_layers.json", size=32,
+                                       progress=lambda s, f: False)
