@@ -10,7 +10,12 @@
 //    would overflow the stack;
 //  - tinygltf reads external files through callbacks of texbake's (regular
 //    files only, a FIFO would block; no '~' or environment expansion; only
-//    beside the glTF file, not in the current folder as tinygltf also looks);
+//    inside the glTF file's folder, not in the current folder as tinygltf
+//    also looks: a URI that is absolute, of another scheme than data:, or
+//    leaves the folder once ".." and links are resolved is refused before
+//    anything is opened);
+//  - values tinygltf reports as malformed but drops silently (its `err`
+//    after a successful load) are errors;
 //  - images are not decoded by tinygltf (its stb_image copy): an embedded
 //    image is kept as its encoded bytes (MeshData::texture_bytes), an
 //    external one as its path (MeshData::texture_path);
@@ -157,15 +162,67 @@ Expected<std::string_view> check_glb(const fs::path& path, std::string_view b) {
 // ---------------------------------------------------------------------------
 // tinygltf's file access and image callback.
 
+// External files (buffers, images) are read from the glTF file's own folder
+// only (README: "beside the .gltf"): a URI must be a relative path that,
+// with ".." and symbolic links resolved, names a file inside that folder.
+// An absolute path, another scheme than data: (file:, http:) or a path
+// leaving the folder is refused before anything is opened. data: URIs never
+// reach these callbacks (tinygltf decodes them).
+
+// The glTF file's folder, absolute, links resolved.
+fs::path gltf_folder(const fs::path& gltf) {
+  std::error_code ec;
+  fs::path folder = fs::absolute(gltf, ec).parent_path();
+  const fs::path resolved = fs::weakly_canonical(folder, ec);
+  return ec ? folder.lexically_normal() : resolved;
+}
+
+// Why `uri` (percent-decoded) may not be read beside the glTF whose folder
+// is `folder` (from gltf_folder), or "" if it may.
+std::string uri_refusal(const fs::path& folder, const std::string& uri) {
+  if (!uri.empty() && (uri[0] == '/' || uri[0] == '\\')) return "is an absolute path";
+  // RFC 3986 scheme: ALPHA *(ALPHA / DIGIT / "+" / "-" / ".") ":" (also
+  // catches a Windows drive, "C:").
+  const std::size_t colon = uri.find(':');
+  if (colon != std::string::npos && colon > 0 && std::isalpha(static_cast<unsigned char>(uri[0])) &&
+      std::all_of(uri.begin(), uri.begin() + colon, [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
+      })) {
+    return "is a URI of scheme '" + uri.substr(0, colon) + "' (texbake reads data: URIs and paths)";
+  }
+  std::error_code ec;
+  const fs::path target = fs::weakly_canonical(folder / fs::u8path(uri), ec);
+  if (ec) return "cannot be resolved (" + ec.message() + ")";
+  const auto f = std::mismatch(folder.begin(), folder.end(), target.begin(), target.end()).first;
+  if (f != folder.end()) return "leaves the glTF's folder";
+  return "";
+}
+
 struct FsContext {
-  std::string base_dir;  // the glTF file's folder ("" for the current one)
+  std::string base_dir;  // the glTF file's folder, absolute (tinygltf's basedir)
+  fs::path folder;       // the same, links resolved (gltf_folder)
+  // The first URI refused, and why (uri_refusal); reported after tinygltf returns.
+  std::string refused_uri, refusal;
 };
 
+// tinygltf looks for a file as JoinPath(basedir, uri), then as "./" + uri;
+// only the first is allowed, and only when uri_refusal finds nothing.
 bool fs_exists(const std::string& name, void* user) {
-  const auto* ctx = static_cast<const FsContext*>(user);
-  // tinygltf also looks in "."; texbake looks only beside the glTF file.
-  if (!ctx->base_dir.empty() && name.rfind(ctx->base_dir, 0) != 0) return false;
+  auto* ctx = static_cast<FsContext*>(user);
+  const std::string prefix = ctx->base_dir.back() == '/' ? ctx->base_dir : ctx->base_dir + "/";
+  if (name.rfind(prefix, 0) != 0) return false;
+  const std::string uri = name.substr(prefix.size());
+  if (std::string why = uri_refusal(ctx->folder, uri); !why.empty()) {
+    if (ctx->refused_uri.empty()) ctx->refused_uri = uri, ctx->refusal = why;
+    return false;
+  }
   return static_cast<bool>(check_regular_file(name, "a glTF buffer or image"));
+}
+
+Error refused_uri_error(const fs::path& path, const std::string& uri, const std::string& why) {
+  return parse_error(path, "the URI '" + uri + "' " + why +
+                               "; texbake reads external buffers and images only from the "
+                               "glTF file's folder");
 }
 
 std::string fs_expand(const std::string& name, void*) {
@@ -584,8 +641,11 @@ Status read_material(const fs::path& path, const tinygltf::Model& m, int mi, Mes
     const unsigned char* p = buf.data() + v.byteOffset;
     mesh.texture_bytes.assign(p, p + v.byteLength);
   } else if (!image.uri.empty()) {
-    const fs::path rel = fs::u8path(percent_decode(image.uri));
-    const fs::path full = (rel.is_absolute() ? rel : path.parent_path() / rel).lexically_normal();
+    const std::string decoded = percent_decode(image.uri);
+    if (std::string why = uri_refusal(gltf_folder(path), decoded); !why.empty()) {
+      return refused_uri_error(path, image.uri, why);
+    }
+    const fs::path full = (path.parent_path() / fs::u8path(decoded)).lexically_normal();
     if (Status s = check_regular_file(full, "an image"); !s) {
       return make_error(ErrorCode::kIo, path.string() + ": the base colour image '" + image.uri +
                                             "': " + s.error().message);
@@ -833,7 +893,12 @@ Expected<MeshData> read_gltf(const fs::path& path, std::string_view bytes,
   if (Status s = check_json_depth(path, json); !s) return s.error();
 
   FsContext fsc;
-  fsc.base_dir = path.parent_path().string();
+  fsc.folder = gltf_folder(path);
+  {
+    std::error_code ec;
+    fsc.base_dir = fs::absolute(path, ec).parent_path().string();
+    if (fsc.base_dir.empty()) fsc.base_dir = ".";
+  }
   tinygltf::TinyGLTF loader;
   tinygltf::FsCallbacks callbacks{&fs_exists, &fs_expand, &fs_read, &fs_write, &fsc};
   loader.SetFsCallbacks(callbacks);
@@ -853,6 +918,7 @@ Expected<MeshData> read_gltf(const fs::path& path, std::string_view bytes,
     err = e.what();
     ok = false;
   }
+  if (!fsc.refused_uri.empty()) return refused_uri_error(path, fsc.refused_uri, fsc.refusal);
   if (!ok) {
     // tinygltf's messages for external buffers: "File not found : NAME",
     // "File read error : PATH : WHY" (from texbake's fs_read), "File size
@@ -867,6 +933,13 @@ Expected<MeshData> read_gltf(const fs::path& path, std::string_view bytes,
   if (model.asset.version.rfind("2.", 0) != 0) {
     return parse_error(path, "glTF version '" + model.asset.version + "'; texbake reads glTF 2.0");
   }
+  // tinygltf 2.7 reports some malformed values in `err` and loads on
+  // without them (a baseColorFactor of 3 numbers: the material keeps its
+  // default white and loses its baseColorTexture; a texture reference
+  // without "index"): the data was dropped, so the file is refused. (Its
+  // warnings are about images that could not be read; the base colour
+  // image is checked by read_material.)
+  if (!err.empty()) return parse_error(path, "malformed value: " + first_line(err));
   return read_model(path, model, other_material_primitives);
 }
 

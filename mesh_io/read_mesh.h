@@ -29,7 +29,8 @@
 //   transforms composed down the hierarchy; a mirroring transform flips the
 //   winding back). Vertices are the glTF vertices, primitive after
 //   primitive (glTF splits a vertex where its UV or normal differs, so the
-//   per-corner tables index them one to one); faces are the triangles.
+//   per-corner tables index them one to one; the fill and smooth normals
+//   weld them by position, mesh_io/weld.h); faces are the triangles.
 //   NORMAL per corner; TEXCOORD_n of the base colour texture (n its
 //   texCoord, else 0) as per-corner UVs with v = 1 - t (glTF's t runs down
 //   from the image's top, texbake's v up); COLOR_0 (float or normalised
@@ -45,7 +46,10 @@
 //   JSON, an accessor or buffer view outside its buffer, an index out of
 //   range, a mode other than TRIANGLES (naming the primitive), a required
 //   extension texbake cannot read (KHR_draco_mesh_compression,
-//   EXT_meshopt_compression, KHR_texture_transform, ...); kIo for a missing
+//   EXT_meshopt_compression, KHR_texture_transform, ...), a value tinygltf
+//   reports as malformed (a baseColorFactor of 3 numbers), a buffer or
+//   image URI outside the glTF's folder (absolute, another scheme than
+//   data:, or leaving it through ".." or a link); kIo for a missing
 //   or unreadable external buffer or base colour image. Instancing is
 //   limited: at most 2^24 corners (and vertices) more than the buffers have
 //   bytes.

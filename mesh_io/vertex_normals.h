@@ -15,7 +15,9 @@ namespace texbake {
 // One normal per vertex: the sum of the unnormalised cross products
 // (b - a) x (c - a) of mesh.triangles around it (area-weighted, the usual
 // smooth-shading normal), normalised; accumulated in double, so the result
-// does not depend on anything but the triangles' order. A vertex in no
+// does not depend on anything but the triangles' order. Vertices at one
+// position (split at a UV or normal seam) are welded (mesh_io/weld.h): each
+// gets the normal of all the triangles around the point. A vertex in no
 // triangle (unreferenced, or only in degenerate ones), or whose sum is zero,
 // gets (0, 0, 0). Outward for a closed mesh whose triangles are counter-
 // clockwise seen from outside.

@@ -272,7 +272,8 @@ Status write_obj(const fs::path& path, const MeshData& mesh, const MeshWriteOpti
   if (!options.obj_material_texture.empty()) {
     const std::string mtl =
         "# written by texbake\nnewmtl texbake\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nmap_Kd " +
-        options.obj_material_texture + "\n";
+        options.obj_material_texture + "\n" +
+        (options.obj_material_alpha ? "map_d " + options.obj_material_texture + "\n" : "");
     Status s = stage_or_write(options.file_set, mtl_path, [&](const fs::path& temp) {
       return write_buffer(temp, mtl_path, mtl);
     });

@@ -16,7 +16,8 @@
 //   has more than 255 corners). Normals and UVs are not written to PLY.
 // - OBJ: `v` (with colours), `vt` and `vn` when the mesh has them, and `f`
 //   with v/vt/vn indices; with `obj_material_texture` set, also an MTL file
-//   beside it (same stem, .mtl) whose map_Kd names that texture.
+//   beside it (same stem, .mtl) whose map_Kd names that texture (and map_d
+//   with `obj_material_alpha`).
 // - The format comes from the extension (.ply, .obj; case-insensitive).
 //   Any other extension is kUnsupported; .glb included, whose writers are
 //   write_vertex_color_glb and write_textured_mesh (mesh_io/write_textured.h).
@@ -42,6 +43,9 @@ struct MeshWriteOptions {
   // OBJ only: texture file name written as map_Kd in an MTL beside the OBJ
   // (relative to the OBJ's folder). Empty: no MTL.
   std::string obj_material_texture;
+  // OBJ only: the texture's alpha is the surface's coverage (an atlas with
+  // alpha, layers over a transparent base): the MTL names it as map_d too.
+  bool obj_material_alpha = false;
   // Stage the file(s) (an OBJ and its MTL) into this set (mesh_io/
   // atomic_file.h; the caller commits it) instead of writing them at once.
   AtomicFileSet* file_set = nullptr;

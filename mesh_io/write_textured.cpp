@@ -342,6 +342,7 @@ Status write_textured_obj(const fs::path& path, const MeshData& mesh, const Imag
   if (Status s = write_image(image_path, atlas, io); !s) return s;
   MeshWriteOptions mo;
   mo.obj_material_texture = image_path.filename().string();  // relative: beside the OBJ
+  mo.obj_material_alpha = options.blend;
   mo.file_set = &set;
   if (Status s = write_mesh(path, mesh, mo); !s) return s;
   return set.commit();

@@ -55,9 +55,11 @@ struct TexturedWriteOptions {
   // GLB sampler: REPEAT in u (wrapS) when the layout is periodic in u
   // (--uv proxy on sphere, cylinder, cone, disk), else CLAMP_TO_EDGE.
   bool repeat_u = false;
-  // GLB material alphaMode BLEND (else OPAQUE): set it when covered texels
-  // are not opaque (layers over a transparent base); the atlas's background
-  // alpha alone does not call for it.
+  // The atlas's alpha is the surface's coverage: GLB material alphaMode
+  // BLEND (else OPAQUE), OBJ map_d naming the atlas beside map_Kd (else
+  // none). Set it when covered texels are not opaque (layers over a
+  // transparent base); the atlas's background alpha alone does not call
+  // for it.
   bool blend = false;
   // zlib level of the PNG atlas (lossless at any level; see
   // kAtlasPngCompression).

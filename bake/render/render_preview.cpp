@@ -255,8 +255,16 @@ void render_tile(const RenderContext& ctx, const TileJob& job, const ColorFn& co
             if (rv > 0) specular += lights[l].specular * std::pow(rv, opt.phong.shininess);
           }
         }
+        // The albedo's alpha (an atlas or vertex colours of layers over
+        // base "none") composites the shaded colour over the background,
+        // as uncovered pixels show it: a transparent texel renders as the
+        // background, an opaque one (alpha 1, every other source) as
+        // shaded.
+        const float alpha = s.albedo[i][3];
+        const double a = std::isnan(alpha) ? 1.0 : std::clamp(static_cast<double>(alpha), 0.0, 1.0);
         for (int c = 0; c < 3; ++c) {
-          sum[c] += std::clamp(s.albedo[i][c] * diffuse + specular, 0.0, 1.0);
+          const double shaded = std::clamp(s.albedo[i][c] * diffuse + specular, 0.0, 1.0);
+          sum[c] += a == 1 ? shaded : a * shaded + (1 - a) * opt.background[c];
         }
       }
       float* out =

@@ -40,6 +40,13 @@
 //    of the samples that hit the mesh, A = the fraction that hit. Pixels the
 //    mesh does not cover have exactly the background RGB and alpha 0 (so a
 //    viewer that ignores alpha shows the background colour).
+//  - A sample's albedo alpha (an atlas or vertex colours with coverage, as
+//    layers over base "none" give them; a projected texture's alpha)
+//    composites its shaded colour over the background RGB before the mean:
+//    a * shaded + (1 - a) * background. A fully transparent point shows
+//    exactly the background, an opaque one (alpha 1: grey, and every bake
+//    without alpha) its shaded colour; the pixel's alpha stays the fraction
+//    of samples that hit the mesh. (The surfaces behind are not traced.)
 //  - Sampling: samples_per_pixel == 1 shoots through the pixel centre.
 //    Otherwise sample s of pixel p lies in stratum s of an m x m grid over the
 //    pixel (m = ceil(sqrt(spp)), row-major; with spp < m*m the last strata

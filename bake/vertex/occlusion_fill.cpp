@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <numeric>
 #include <span>
+#include <unordered_map>
 #include <utility>
 
 #include "bake/util/parallel.h"
 #include "bake/vertex/laplace_multigrid.h"
+#include "mesh_io/weld.h"
 
 namespace texbake {
 
@@ -109,13 +111,50 @@ FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
   FillPlan plan;
   FillResult& result = plan.result;
 
-  // Number the unknown vertices 0..m-1.
+  // Vertices at one position (split at a UV or normal seam: mesh_io/weld.h)
+  // are one point of the graph, so a seam does not cut the fill apart. A
+  // point with a known copy is known: its unknown copies take the mean of
+  // the known copies' colours. Without shared positions every vertex is its
+  // own point (the code below then numbers and solves exactly as if there
+  // were no welding).
+  const std::vector<uint32_t> weld = weld_by_position(mesh);
+  std::vector<uint8_t> point_known;  // per first copy: 1 if a copy is known
+  if (!weld.empty()) {
+    point_known.assign(n, 0);
+    for (std::size_t v = 0; v < n; ++v) {
+      if (!unknown[v]) point_known[weld[v]] = 1;
+    }
+    std::unordered_map<uint32_t, std::pair<std::array<double, 4>, uint32_t>> known_mean;
+    for (std::size_t v = 0; v < n; ++v) {
+      if (unknown[v] && point_known[weld[v]]) known_mean.try_emplace(weld[v]);
+    }
+    for (std::size_t v = 0; v < n && !known_mean.empty(); ++v) {
+      if (unknown[v]) continue;
+      auto it = known_mean.find(weld[v]);
+      if (it == known_mean.end()) continue;
+      for (int c = 0; c < 4; ++c) it->second.first[c] += colors[v][c];
+      ++it->second.second;
+    }
+    for (std::size_t v = 0; v < n; ++v) {
+      if (!unknown[v] || !point_known[weld[v]]) continue;
+      const auto& [sum, count] = known_mean.at(weld[v]);
+      for (int c = 0; c < 4; ++c) colors[v][c] = static_cast<float>(sum[c] / count);
+      ++result.filled;
+    }
+  }
+
+  // Number the unknown points 0..m-1 (in order of their first copy); every
+  // copy of a point has its slot.
   std::vector<uint32_t> slot(n, kNotUnknown);
   std::vector<uint32_t> vertex_of;
   for (std::size_t v = 0; v < n; ++v) {
-    if (unknown[v]) {
+    if (!unknown[v]) continue;
+    if (weld.empty() || weld[v] == v) {
+      if (!weld.empty() && point_known[v]) continue;
       slot[v] = static_cast<uint32_t>(vertex_of.size());
       vertex_of.push_back(static_cast<uint32_t>(v));
+    } else {
+      slot[v] = slot[weld[v]];  // kNotUnknown for a point with a known copy
     }
   }
   const std::size_t m = vertex_of.size();
@@ -129,7 +168,7 @@ FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
       const uint32_t a = tri[k], b = tri[(k + 1) % 3];
       const uint32_t sa = slot[a], sb = slot[b];
       if (sa != kNotUnknown && sb != kNotUnknown) {
-        sets.unite(sa, sb);
+        sets.unite(sa, sb);  // (sa == sb: an edge between copies of one point, no coupling)
       } else if (sa != kNotUnknown) {
         touches_known[sa] = 1;
       } else if (sb != kNotUnknown) {
@@ -166,15 +205,20 @@ FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,
     std::vector<uint32_t> next(component_start.begin(), component_start.end() - 1);
     for (std::size_t i = 0; i < m; ++i) {
       const uint32_t root = sets.find(static_cast<uint32_t>(i));
-      if (anchored[root]) {
-        row[i] = next[component_of_root[root]]++;
-      } else {
-        colors[vertex_of[i]] = fallback(vertex_of[i]);
-        ++result.unfilled;
-      }
+      if (anchored[root]) row[i] = next[component_of_root[root]]++;
     }
   }
-  result.filled = component_start.back();
+  // Counted per vertex: every copy of a point is filled, or takes its own
+  // fallback.
+  for (std::size_t v = 0; v < n; ++v) {
+    if (slot[v] == kNotUnknown) continue;
+    if (row[slot[v]] != kNotUnknown) {
+      ++result.filled;
+    } else {
+      colors[v] = fallback(static_cast<uint32_t>(v));
+      ++result.unfilled;
+    }
+  }
   plan.slot = std::move(slot);
   plan.row = std::move(row);
   plan.vertex_of = std::move(vertex_of);
@@ -186,11 +230,9 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
                                 const FillSolverOptions& solver) {
   const std::vector<uint32_t>& slot = plan.slot;
   const std::vector<uint32_t>& row = plan.row;
-  const std::vector<uint32_t>& vertex_of = plan.vertex_of;
   const std::vector<uint32_t>& component_start = plan.component_start;
   FillResult result = plan.result;
-  const std::size_t m = vertex_of.size();
-  const std::size_t rows = result.filled;
+  const std::size_t rows = component_start.empty() ? 0 : component_start.back();
   if (rows == 0) return result;
   const std::size_t components = component_start.size() - 1;
 
@@ -206,6 +248,7 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
       const uint32_t a = tri[k], b = tri[(k + 1) % 3];
       const uint32_t ra = row_of(a), rb = row_of(b);
       if (ra != kNotUnknown && rb != kNotUnknown) {
+        if (ra == rb) continue;  // copies of one point (a zero-length edge)
         diagonal[ra] += 1, diagonal[rb] += 1;
         couplings.emplace_back(std::max(ra, rb), std::min(ra, rb));
       } else if (ra != kNotUnknown) {
@@ -276,10 +319,10 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
       return make_error(ErrorCode::kInternal, "occlusion fill: solving the Laplace system failed");
     }
   }
-  for (std::size_t i = 0; i < m; ++i) {
-    if (row[i] == kNotUnknown) continue;
-    const auto r = static_cast<Eigen::Index>(row[i]);
-    for (int c = 0; c < 4; ++c) colors[vertex_of[i]][c] = static_cast<float>(rhs(r, c));
+  for (std::size_t v = 0; v < slot.size(); ++v) {
+    if (slot[v] == kNotUnknown || row[slot[v]] == kNotUnknown) continue;
+    const auto r = static_cast<Eigen::Index>(row[slot[v]]);
+    for (int c = 0; c < 4; ++c) colors[v][c] = static_cast<float>(rhs(r, c));
   }
   return result;
 }

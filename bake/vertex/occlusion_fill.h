@@ -17,6 +17,12 @@
 // cost grows linearly with its size; the two agree far below one 8-bit level
 // (tests/bake/vertex/occlusion_fill_test.cpp).
 //
+// Vertices at one position (split at UV or normal seams, as glTF stores
+// them) are welded into one point of the graph (mesh_io/weld.h): a seam does
+// not cut the fill into pieces, and every copy gets the point's colour. A
+// point with a known copy is known; its unknown copies take the mean of the
+// known copies. Counts (filled, unfilled) are of vertices, copies included.
+//
 // A connected component of unknown vertices that touches no known vertex
 // (e.g. a separate part entirely in shadow, or a vertex in no triangle) has no
 // boundary: its vertices get `fallback(v)` (the projected colour) and are
@@ -53,9 +59,9 @@ struct FillResult {
 // solve_fill solves for the rest. fill_harmonic = solve_fill(plan_fill(...)).
 struct FillPlan {
   FillResult result;
-  std::vector<uint32_t> slot;             // per vertex: index among the unknowns, or ~0u
-  std::vector<uint32_t> row;              // per unknown: row of the system, or ~0u (unfilled)
-  std::vector<uint32_t> vertex_of;        // per unknown: its vertex
+  std::vector<uint32_t> slot;             // per vertex: index of its unknown point, or ~0u
+  std::vector<uint32_t> row;              // per unknown point: row of the system, or ~0u (unfilled)
+  std::vector<uint32_t> vertex_of;        // per unknown point: its first vertex
   std::vector<uint32_t> component_start;  // rows of component c: [start[c], start[c+1])
 };
 FillPlan plan_fill(const MeshData& mesh, std::vector<Rgba>& colors,

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -178,6 +179,11 @@ TEST_F(LayersAtlasCli, CoverageIsThePngAlphaAndTheGlbAlphaMode) {
     }
   }
   EXPECT_GT(covered, 5000u);
+  // The OBJ's MTL names the PNG as map_d too (SPEC section 7, issue #28
+  // item 15: without it Blender draws the RGB of uncovered texels opaque).
+  EXPECT_EQ(testing_cli::slurp(dir_ / "half.mtl"),
+            "# written by texbake\nnewmtl texbake\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\n"
+            "map_Kd half.png\nmap_d half.png\n");
   r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "half.json") +
                   " --uv generate --size 128 -q -o " + q(dir_ / "half.glb"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -190,6 +196,57 @@ TEST_F(LayersAtlasCli, CoverageIsThePngAlphaAndTheGlbAlphaMode) {
                   " --uv generate --size 128 -q -o " + q(dir_ / "full.glb"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(testing_cli::slurp(dir_ / "full.glb").find("BLEND"), std::string::npos);
+  // ... and its OBJ has no map_d.
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "full.json") +
+                  " --uv generate --size 128 -q -o " + q(dir_ / "full.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(testing_cli::slurp(dir_ / "full.mtl").find("map_d"), std::string::npos);
+}
+
+// Issue #28 item 15, checked in Blender itself when it is installed
+// (Debian's blender 3.4; skipped otherwise): importing a layers OBJ over
+// base "none" gives a material that blends (blend_method BLEND) with the
+// atlas image's Alpha output linked to the Principled BSDF's Alpha, its
+// Color to Base Color; the opaque result's material stays OPAQUE, alpha
+// unlinked.
+TEST_F(LayersAtlasCli, BlenderImportsTheCoverageAsAlpha) {
+  if (std::system("blender --version >/dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "blender is not installed (apt-get install blender): the MTL is checked by "
+                    "CoverageIsThePngAlphaAndTheGlbAlphaMode";
+  }
+  const std::string bunny = q(kData + "/bunny00.off");
+  write("half.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":")" +
+                         kData + R"(/earth.jpg","opacity":0.5,"visibility":"all"}]})");
+  write("full.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":")" +
+                         kData + R"(/earth.jpg","visibility":"all"}]})");
+  for (const char* name : {"half", "full"}) {
+    testing_cli::RunResult r =
+        run_texbake("bake " + bunny + " --layers " + q(dir_ / (std::string(name) + ".json")) +
+                    " --uv generate --size 64 -q -o " + q(dir_ / (std::string(name) + ".obj")));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  write("check.py", R"(import bpy, sys
+for name in sys.argv[sys.argv.index("--") + 1:]:
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.ops.wm.obj_import(filepath=name)
+    for m in bpy.data.materials:
+        links = sorted(l.from_node.type + "." + l.from_socket.name + ">" + l.to_socket.name
+                       for l in m.node_tree.links if l.from_node.type == "TEX_IMAGE")
+        print("RESULT", m.blend_method, ",".join(links))
+)");
+  const testing_cli::RunResult b =
+      testing_cli::run_command("blender -b --factory-startup --python " + q(dir_ / "check.py") +
+                               " -- " + q(dir_ / "half.obj") + " " + q(dir_ / "full.obj"));
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  const auto at = b.out.find("RESULT");
+  ASSERT_NE(at, std::string::npos) << b.out << b.err;
+  std::string results;
+  for (std::size_t i = at; (i = b.out.find("RESULT", i)) != std::string::npos; ++i) {
+    results += b.out.substr(i, b.out.find('\n', i) - i) + "\n";
+  }
+  EXPECT_EQ(results,
+            "RESULT BLEND TEX_IMAGE.Alpha>Alpha,TEX_IMAGE.Color>Base Color\n"
+            "RESULT OPAQUE TEX_IMAGE.Color>Base Color\n");
 }
 
 TEST_F(LayersAtlasCli, BadFlagsAndFilesAreErrorsWithNoOutput) {

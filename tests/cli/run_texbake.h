@@ -61,13 +61,13 @@ inline void write_ppm(const std::filesystem::path& path, int w, int h,
   out.write(reinterpret_cast<const char*>(rgb.data()), static_cast<std::streamsize>(rgb.size()));
 }
 
-inline RunResult run_texbake(const std::string& args_quoted) {
+// Runs a shell command line (its arguments quoted), capturing as run_texbake.
+inline RunResult run_command(const std::string& command_quoted) {
   static int counter = 0;
   const std::filesystem::path err_file =
       std::filesystem::temp_directory_path() /
       ("texbake_cli_stderr_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-  const std::string command =
-      shell_quote(TEXBAKE_BINARY) + " " + args_quoted + " 2>" + shell_quote(err_file.string());
+  const std::string command = command_quoted + " 2>" + shell_quote(err_file.string());
   RunResult r;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (!pipe) return r;
@@ -82,6 +82,10 @@ inline RunResult run_texbake(const std::string& args_quoted) {
   r.err = text.str();
   std::filesystem::remove(err_file);
   return r;
+}
+
+inline RunResult run_texbake(const std::string& args_quoted) {
+  return run_command(shell_quote(TEXBAKE_BINARY) + " " + args_quoted);
 }
 
 }  // namespace texbake::testing_cli

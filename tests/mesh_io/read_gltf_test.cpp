@@ -539,5 +539,87 @@ TEST_F(ReadGltfTest, CompressionExtensionsAndOtherModes) {
                ErrorCode::kParse, "node 0 appears twice");
 }
 
+// Issue #28 item 7: values tinygltf reports as malformed and then drops (a
+// baseColorFactor of 3 numbers left the material white and dropped its
+// texture; a texture reference without its index) are errors naming the
+// file and the key.
+TEST_F(ReadGltfTest, MalformedMaterialValuesAreErrors) {
+  auto with_material = [&](const std::string& material, const std::string& name) {
+    const fs::path file =
+        bad_gltf(R"("nodes": [{"mesh": 0}])",
+                 R"("materials": [)" + material + R"(], "nodes": [{"mesh": 0}])", name);
+    std::string text = test::read_bytes(file);
+    text.replace(text.find(R"("indices": 1})"), 13, R"("indices": 1, "material": 0})");
+    return test::write_text(file, text);
+  };
+  expect_error(
+      with_material(R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0]}})", "three.gltf"),
+      ErrorCode::kParse, "`baseColorFactor` parameter in pbrMetallicRoughness must be 4");
+  expect_error(with_material(R"({"pbrMetallicRoughness": {"baseColorTexture": {"texCoord": 0}}})",
+                             "noindex.gltf"),
+               ErrorCode::kParse, "'index' property is missing");
+  // The same material with four numbers reads, its factor kept.
+  Expected<LoadedMesh> m = read_mesh(with_material(
+      R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 0.5]}})", "four.gltf"));
+  ASSERT_TRUE(m) << m.error().message;
+  ASSERT_TRUE(m->mesh.base_color_factor);
+  EXPECT_EQ(*m->mesh.base_color_factor, (std::array<float, 4>{1, 0, 0, 0.5f}));
+}
+
+// Issue #28 item 9: external buffers and images are read only from the
+// glTF's own folder. A URI leaving it ("..", a link pointing out), an
+// absolute path or another scheme than data: is refused, naming the file
+// and the URI; subfolders and links that stay inside are read.
+TEST_F(ReadGltfTest, UrisLeavingTheFolderAreRefused) {
+  const fs::path sub = dir_ / "sub";
+  fs::create_directories(sub / "deeper");
+  bad_gltf();  // writes dir_/tri.bin, outside `sub`
+  auto gltf_in_sub = [&](const std::string& buffer_uri, const std::string& name,
+                         const std::string& image_uri = "") {
+    const fs::path file =
+        bad_gltf(R"("uri": "tri.bin")", R"("uri": ")" + buffer_uri + "\"", "sub/" + name);
+    if (image_uri.empty()) return file;
+    std::string text = test::read_bytes(file);
+    text.replace(text.find(R"("nodes": [{"mesh": 0}])"), 22,
+                 R"("images": [{"uri": ")" + image_uri + R"("}], "textures": [{"source": 0}],
+ "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+ "nodes": [{"mesh": 0}])");
+    text.replace(text.find(R"("indices": 1})"), 13, R"("indices": 1, "material": 0})");
+    return test::write_text(file, text);
+  };
+  expect_error(gltf_in_sub("../tri.bin", "up.gltf"), ErrorCode::kParse,
+               "the URI '../tri.bin' leaves the glTF's folder");
+  expect_error(gltf_in_sub("deeper/../../tri.bin", "updown.gltf"), ErrorCode::kParse,
+               "'deeper/../../tri.bin' leaves");
+  expect_error(gltf_in_sub("%2E%2E/tri.bin", "percent.gltf"), ErrorCode::kParse,
+               "'../tri.bin' leaves");  // tinygltf decodes it first
+  expect_error(gltf_in_sub((dir_ / "tri.bin").string(), "absolute.gltf"), ErrorCode::kParse,
+               "is an absolute path");
+  expect_error(gltf_in_sub("file:///etc/passwd", "scheme.gltf"), ErrorCode::kParse,
+               "of scheme 'file'");
+  fs::create_symlink(dir_ / "tri.bin", sub / "link.bin");
+  expect_error(gltf_in_sub("link.bin", "link.gltf"), ErrorCode::kParse,
+               "'link.bin' leaves the glTF's folder");
+  fs::create_symlink(dir_, sub / "deeper" / "up");
+  expect_error(gltf_in_sub("deeper/up/tri.bin", "dirlink.gltf"), ErrorCode::kParse,
+               "'deeper/up/tri.bin' leaves");
+
+  // Inside the folder: a subfolder, ".." that stays inside, a link to a
+  // file inside; the buffer reads.
+  fs::copy_file(dir_ / "tri.bin", sub / "deeper" / "tri.bin");
+  fs::create_symlink(sub / "deeper" / "tri.bin", sub / "inner.bin");
+  for (const char* uri : {"deeper/tri.bin", "deeper/../deeper/tri.bin", "inner.bin"}) {
+    Expected<LoadedMesh> m = read_mesh(gltf_in_sub(uri, "inside.gltf"));
+    EXPECT_TRUE(m) << uri << ": " << m.error().message;
+  }
+
+  // The base colour image: tinygltf's lookup and read_material's both refuse.
+  test::write_text(dir_ / "outside.png", "not read");
+  expect_error(gltf_in_sub("deeper/tri.bin", "image.gltf", "../outside.png"), ErrorCode::kParse,
+               "the URI '../outside.png' leaves");
+  expect_error(gltf_in_sub("deeper/tri.bin", "image_abs.gltf", (dir_ / "outside.png").string()),
+               ErrorCode::kParse, "is an absolute path");
+}
+
 }  // namespace
 }  // namespace texbake

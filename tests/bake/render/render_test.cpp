@@ -205,6 +205,56 @@ TEST(RenderPreview, FacingQuadCentreHasHandComputedPhongValue) {
   EXPECT_EQ(bg[3], 0.0f);
 }
 
+// Issue #28 item 16: a colour's alpha (layers over base "none") composites
+// the shaded colour over the background RGB. Exact, with no golden image:
+// an atlas whose left half is transparent (alpha 0) renders there exactly
+// as the background, its opaque right half as the hand-computed Phong
+// value; vertex colours of alpha 0.25 give 0.25 x shaded + 0.75 x
+// background. Coverage (the pixel's alpha) stays 1 on the quad.
+TEST(RenderPreview, AlphaShowsTheBackgroundThroughTheSurface) {
+  // 4x1 texture, alpha 0 in texels 0 and 1, 1 in texels 2 and 3 (u < 0.5
+  // and u > 0.5 by at least a texel's half: bilinear lookups there see only
+  // one kind).
+  const std::vector<float> texels = {1,    0,    0,    0, 1,    0,    0,    0,
+                                     0.8f, 0.4f, 0.2f, 1, 0.8f, 0.4f, 0.2f, 1};
+  const ImageView tex{4, 1, texels.data()};
+  MeshData quad = facing_quad();
+  const EmbreeScene scene = build_scene(quad);
+  RenderOptions o;
+  o.width = o.height = 65;
+  o.elevation_deg = 0;
+  o.phong = test_phong();
+  o.background = {0.25f, 0.5f, 0.75f, 0};
+  auto atlas = render_preview(quad, scene, AtlasSource{tex}, o);
+  ASSERT_TRUE(atlas.has_value()) << atlas.error().message;
+  // Image x runs along +X, so u grows to the right: pixel columns 20 and 44
+  // look at x ~ -0.57 and +0.57 (half the view is 1.54 wide there), u ~ 0.22
+  // and 0.78, texel positions 0.37 and 2.63.
+  const float* left = atlas->pixel(20, 32);
+  const float* right = atlas->pixel(44, 32);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(left[k], o.background[k]) << k;
+  EXPECT_EQ(left[3], 1.0f);  // the quad covers the pixel
+  EXPECT_EQ(right[3], 1.0f);
+  // The right half is opaque: shaded as before (not facing squarely off
+  // the axis, so compared with an opaque render of the same texels).
+  std::vector<float> opaque = texels;
+  for (std::size_t i = 3; i < opaque.size(); i += 4) opaque[i] = 1;
+  auto full = render_preview(quad, scene, AtlasSource{ImageView{4, 1, opaque.data()}}, o);
+  ASSERT_TRUE(full.has_value());
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(right[k], full->pixel(44, 32)[k]) << k;
+  EXPECT_NE(full->pixel(20, 32)[0], o.background[0]);  // red where the texels are opaque
+
+  quad.vertex_colors.assign(4, {0.8f, 0.4f, 0.2f, 0.25f});
+  auto quarter = render_preview(quad, scene, VertexColorSource{}, o);
+  ASSERT_TRUE(quarter.has_value());
+  const float* c = quarter->pixel(32, 32);
+  const double shaded[3] = {facing_phong(0.8), facing_phong(0.4), facing_phong(0.2)};
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(c[k], 0.25 * shaded[k] + 0.75 * o.background[k], 1e-6) << k;
+  }
+  EXPECT_EQ(c[3], 1.0f);
+}
+
 TEST(RenderPreview, AtlasAndProjectionSampleTheTextureAtTheHitPoint) {
   // 2x2 texture; at (u, v) = (0.5, 0.5) bilinear sampling averages all four
   // texels (SPEC section 1: x = 0.5 * 2 - 0.5 = 0.5): (0.5, 0.5, 0.5).

@@ -309,5 +309,64 @@ TEST(OcclusionFillData, MultigridAgreesWithTheDirectSolveOnTheArmadillo832k) {
   expect_multigrid_matches_direct(test::subdivide(test::subdivide(data_mesh("armadillo.off"))));
 }
 
+// Issue #28 item 14: a mesh split at seams (here the extreme, flat-shaded
+// case: every triangle its own three vertices, as Blender writes a flat
+// GLB) is filled as the welded mesh is. Its graph, welded by position, is
+// the same graph with the same edge weights, so every copy gets its
+// point's colour in the welded fill (to rounding: the rows are numbered
+// in another order); none is left unfilled where the welded mesh fills.
+// Without the weld every triangle of three shadowed vertices was a
+// component of its own with no known vertex: all of them fell back.
+// A copy marked unknown of a point whose other copies are known takes
+// their colour.
+TEST(OcclusionFillData, FlatSplitMeshFillsAsTheWeldedMesh) {
+  const MeshData welded = data_mesh("bunny00.off");
+  const std::vector<uint8_t> unknown = shadowed_from_centre(welded);
+  ASSERT_GT(std::count(unknown.begin(), unknown.end(), 1), 1000);
+  std::vector<Rgba> expected = random_known(unknown, 5);
+  auto fallback = [](uint32_t) { return Rgba{-1, -1, -1, -1}; };  // marks a fallback
+  Expected<FillResult> w = fill_harmonic(welded, expected, unknown, fallback, kDirect);
+  ASSERT_TRUE(w);
+
+  MeshData split;
+  std::vector<uint32_t> source;
+  for (const auto& tri : welded.triangles) {
+    const auto first = static_cast<uint32_t>(split.positions.size());
+    for (uint32_t v : tri) split.positions.push_back(welded.positions[v]), source.push_back(v);
+    split.triangles.push_back({first, first + 1, first + 2});
+  }
+  test::faces_from_triangles(split);
+  std::vector<uint8_t> split_unknown(source.size());
+  std::vector<Rgba> colors(source.size());
+  const std::vector<Rgba> known = random_known(unknown, 5);
+  for (std::size_t c = 0; c < source.size(); ++c) {
+    split_unknown[c] = unknown[source[c]];
+    colors[c] = known[source[c]];
+  }
+  // One copy of a known point (the first known vertex's first copy) marked unknown.
+  const auto marked = static_cast<std::size_t>(
+      std::find(split_unknown.begin(), split_unknown.end(), 0) - split_unknown.begin());
+  split_unknown[marked] = 1;
+  colors[marked] = {0, 0, 0, 0};
+
+  Expected<FillResult> f = fill_harmonic(split, colors, split_unknown, fallback, kDirect);
+  ASSERT_TRUE(f);
+  std::size_t copies_unfilled = 0;
+  for (std::size_t c = 0; c < source.size(); ++c) {
+    if (unknown[source[c]] && expected[source[c]][0] == -1) ++copies_unfilled;
+  }
+  EXPECT_EQ(f->unfilled, copies_unfilled);  // only where the welded mesh falls back too
+  EXPECT_EQ(f->filled + f->unfilled,
+            static_cast<std::size_t>(std::count(split_unknown.begin(), split_unknown.end(), 1)));
+  double worst = 0;
+  for (std::size_t c = 0; c < source.size(); ++c) {
+    for (int k = 0; k < 4; ++k) {
+      worst = std::max(worst, std::abs(double(colors[c][k]) - expected[source[c]][k]));
+    }
+  }
+  EXPECT_LT(worst, 1e-5);
+  EXPECT_EQ(colors[marked], known[source[marked]]);
+}
+
 }  // namespace
 }  // namespace texbake
