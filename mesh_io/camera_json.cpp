@@ -217,8 +217,12 @@ Expected<CameraProjector> camera_from_json(std::string_view text, const std::str
 Expected<std::vector<CameraListEntry>> read_camera_list(const std::filesystem::path& path) {
   Expected<std::string> text = read_text(path);
   if (!text) return text.error();
-  const std::string source = path.string();
-  Expected<json> root = parse_json_object(*text, source);
+  return camera_list_from_json(*text, path.string());
+}
+
+Expected<std::vector<CameraListEntry>> camera_list_from_json(std::string_view text,
+                                                             const std::string& source) {
+  Expected<json> root = parse_json_object(text, source);
   if (!root) return root.error();
   const Reader in(source);
   if (Status s = in.only_keys(*root, {"cameras"}, "a camera list"); !s) return s.error();

@@ -39,5 +39,8 @@ struct CameraListEntry {
   std::string image;  // as written (relative to the list's folder unless absolute)
 };
 Expected<std::vector<CameraListEntry>> read_camera_list(const std::filesystem::path& path);
+// The same from text (errors start with `source`).
+Expected<std::vector<CameraListEntry>> camera_list_from_json(std::string_view text,
+                                                             const std::string& source);
 
 }  // namespace texbake

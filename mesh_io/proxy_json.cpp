@@ -109,9 +109,6 @@ class ObjectReader {
   const std::string& source_;
 };
 
-// Parses `text`, noting the first duplicate key (seen by hand inside each
-// object before nlohmann overwrites it) and the last key read (so an error
-// inside its value, e.g. a number overflow, can name it).
 // Every field of the kind's table, in its order; all are required but the
 // equator (mapping/proxy.h's default).
 Expected<ProxyParams> read_params(const ObjectReader& in, ProxyKind kind) {

@@ -5,7 +5,7 @@
 //  - a .glb's container (header, chunk lengths) is checked here first:
 //    tinygltf 2.7 does not count the BIN chunk's 8-byte header when it checks
 //    the chunk against the file, so a lying length reads past the end;
-//  - the JSON's nesting depth is limited (kMaxJsonDepth) before it is parsed:
+//  - the JSON's nesting depth is limited (mesh_io/json_strict.h) before it is parsed:
 //    the parsed document is freed recursively, so a file of a million '['
 //    would overflow the stack;
 //  - tinygltf reads external files through callbacks of texbake's (regular
@@ -48,6 +48,7 @@
 #include "mapping/sample.h"
 #include "mesh_io/byte_order.h"
 #include "mesh_io/file_name.h"
+#include "mesh_io/json_strict.h"
 #include "mesh_io/read_mesh_internal.h"
 #include "mesh_io/regular_file.h"
 
@@ -55,10 +56,6 @@ namespace texbake::read_detail {
 namespace fs = std::filesystem;
 
 namespace {
-
-// Deeper JSON is refused before it is parsed (see the top comment); glTF
-// documents nest about 8 levels (extras may nest more).
-constexpr int kMaxJsonDepth = 128;
 
 // An external buffer or image file tinygltf may read whole: 4 GiB (the
 // largest a GLB can hold).
@@ -75,36 +72,6 @@ constexpr std::uint64_t kInstancingAllowance = std::uint64_t{1} << 24;
 
 uint32_t le32(const std::string_view bytes, std::size_t at) {
   return load_le32(bytes.data() + at);
-}
-
-// The deepest nesting of '[' and '{' outside strings.
-int json_depth(std::string_view text) {
-  int depth = 0, deepest = 0;
-  bool in_string = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      deepest = std::max(deepest, ++depth);
-    } else if (c == ']' || c == '}') {
-      --depth;
-    }
-  }
-  return deepest;
-}
-
-Status check_json_depth(const fs::path& path, std::string_view json) {
-  if (json_depth(json) > kMaxJsonDepth) {
-    return parse_error(path, "its JSON nests deeper than " + std::to_string(kMaxJsonDepth) +
-                                 " levels (not a glTF document)");
-  }
-  return ok_status();
 }
 
 // The GLB container (glTF 2.0, section 4.4): a 12-byte header ("glTF",
@@ -890,7 +857,7 @@ Expected<MeshData> read_gltf(const fs::path& path, std::string_view bytes,
   if (json.size() > std::numeric_limits<unsigned int>::max()) {
     return parse_error(path, "larger than the 4 GiB tinygltf reads");
   }
-  if (Status s = check_json_depth(path, json); !s) return s.error();
+  if (Status s = check_json_depth(json, path.string()); !s) return s.error();
 
   FsContext fsc;
   fsc.folder = gltf_folder(path);

@@ -5,7 +5,8 @@
 #   scripts/fuzz.sh [SECONDS] [TARGET...]      default: 25 s, every target
 #
 # Each target starts from its seed corpus (tests/fuzz/corpus/<target>) and
-# the inputs that once failed (tests/fuzz/regressions/<target>); new corpus
+# the inputs that once failed (tests/fuzz/regressions/<target>), with its
+# dictionary (tests/fuzz/dict/<target>.dict) when it has one; new corpus
 # entries go to build-fuzz/corpus/<target>, never into the source tree.
 # Crashes, leaks, hangs (-timeout=10 s per input) and inputs needing more than
 # 2 GB (-rss_limit_mb=2048) are failures: the input is saved under
@@ -16,7 +17,7 @@ source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
 texbake_install_packages "${texbake_build_packages[@]}" "${texbake_test_packages[@]}"
 
 TEXBAKE_FUZZ_BUILD=${TEXBAKE_FUZZ_BUILD:-$TEXBAKE_ROOT/build-fuzz}
-texbake_fuzz_targets=(fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_off fuzz_mesh_stl fuzz_mesh_glb fuzz_mesh_gltf fuzz_proxy_json fuzz_layers_json fuzz_cli)
+texbake_fuzz_targets=(fuzz_mesh_obj fuzz_mesh_ply fuzz_mesh_off fuzz_mesh_stl fuzz_mesh_glb fuzz_mesh_gltf fuzz_proxy_json fuzz_layers_json fuzz_camera_list fuzz_batch_line fuzz_cli)
 
 # Largest input per target: a few hundred lines of a mesh, a JSON object, a
 # command line.
@@ -24,7 +25,7 @@ fuzz_max_len() {
   case "$1" in
     fuzz_mesh_*) echo 4096 ;;
     fuzz_proxy_json) echo 1024 ;;
-    fuzz_layers_json) echo 2048 ;;
+    fuzz_layers_json | fuzz_camera_list | fuzz_batch_line) echo 2048 ;;
     fuzz_cli) echo 512 ;;
   esac
 }
@@ -49,9 +50,11 @@ fuzz_run() {
   cp -n "$TEXBAKE_ROOT/tests/fuzz/corpus/$target"/* "$corpus"/ 2>/dev/null || true
   local inputs=("$corpus")
   if [ -d "$regressions" ]; then inputs+=("$regressions"); fi
+  local dict=$TEXBAKE_ROOT/tests/fuzz/dict/$target.dict options=()
+  if [ -f "$dict" ]; then options+=("-dict=$dict"); fi
   local status=0
   "$TEXBAKE_FUZZ_BUILD/$target" -max_total_time="$seconds" -max_len="$(fuzz_max_len "$target")" \
-    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 "${options[@]}" \
     -artifact_prefix="$artifacts/" "${inputs[@]}" >"$log" 2>&1 || status=$?
   local execs
   execs=$(grep -a -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")

@@ -4,8 +4,9 @@
 // One `texbake bake` job a line: a JSON object with the command line's keys
 // by their long names ("mesh", "texture", "proxy" | "proxy_file" | "cameras"
 // (+ "images") | "layers", "output",
-// "center": [0, 0, 0], "samples": 4, "linear": true, ...). Each job is
-// translated into the argv of the single command (job_argv) and run by a
+// "center": [0, 0, 0], "samples": 4, "linear": true, ...). Each line is read
+// by parse_batch_line (bake/cli/batch_job.h: bounded, strict JSON; every key
+// an option of `texbake bake`) into the argv of the single command, run by a
 // fresh CLI11 app of make_cli_app in this process, so options are parsed,
 // validated and reported by exactly the code of `texbake bake`, with the
 // same messages. Relative paths are relative to the current folder, as for
@@ -19,7 +20,8 @@
 // Blank lines are no job. --skip-existing skips a job whose outputs all
 // exist and none is older than any of its inputs (make's rule). Exit 0 only
 // if every job of the shard succeeded or was skipped; 1 otherwise; 2 for the
-// batch's own usage errors.
+// batch's own usage errors. --results is truncated at the start and gets
+// each job's line as soon as the job ends (appended, flushed).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -36,6 +38,7 @@
 
 #include "bake/cli/app.h"
 #include "bake/cli/atlas_target.h"
+#include "bake/cli/batch_job.h"
 #include "bake/cli/commands.h"
 #include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
@@ -74,65 +77,6 @@ Expected<Shard> parse_shard(const std::string& text) {
                       "--shard '" + text + "' is not K/N with 0 <= K < N (e.g. 0/4)");
   }
   return s;
-}
-
-// A JSON value as the text of a flag's value: a string as it is, a number
-// as JSON prints it, an array of numbers "x,y,z", an array of arrays
-// "x,y,z;x,y,z;..." (--corners). Error naming the key for other values.
-Expected<std::string> flag_value(const std::string& key, const ordered_json& v) {
-  if (v.is_string()) return v.get<std::string>();
-  if (v.is_number()) return v.dump();
-  auto bad = [&] {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "key \"" + key + "\": " + v.dump() +
-                          " is not a value of the command line (a string, a number, a boolean, "
-                          "an array of numbers or of arrays of numbers)");
-  };
-  if (!v.is_array() || v.empty()) return bad();
-  std::string text;
-  for (const ordered_json& e : v) {
-    if (e.is_array()) {
-      Expected<std::string> inner = flag_value(key, e);
-      if (!inner || inner->find(';') != std::string::npos) return bad();
-      text += (text.empty() ? "" : ";") + *inner;
-    } else if (e.is_number()) {
-      text += (text.empty() ? "" : ",") + e.dump();
-    } else {
-      return bad();
-    }
-  }
-  return text;
-}
-
-// The argv of `texbake bake` for a job: "mesh" is the positional MESH,
-// every other key K is --K (underscores as hyphens: "proxy_file" is
-// --proxy-file) with its value as --K=VALUE (so a value starting with '-'
-// stays a value); true is the flag alone, false leaves it out. -q is added
-// unless the job sets "quiet" (the batch prints its own line per job).
-// `threads` is added when the job has no "threads" and it is not 0.
-Expected<std::vector<std::string>> job_argv(const ordered_json& job, int threads) {
-  std::vector<std::string> argv{"texbake", "bake"};
-  for (const auto& [key, value] : job.items()) {
-    if (key == "mesh") {
-      Expected<std::string> v = flag_value(key, value);
-      if (!v) return v.error();
-      argv.push_back(*v);
-      continue;
-    }
-    std::string flag = "--" + key;
-    for (char& c : flag) c = c == '_' ? '-' : c;
-    if (value.is_boolean()) {
-      if (value.get<bool>()) argv.push_back(flag);
-      continue;
-    }
-    Expected<std::string> v = flag_value(key, value);
-    if (!v) return v.error();
-    argv.push_back(flag + "=" + *v);
-  }
-  if (!job.contains("quiet")) argv.push_back("--quiet");
-  if (!job.contains("threads") && threads > 0)
-    argv.push_back("--threads=" + std::to_string(threads));
-  return argv;
 }
 
 std::string string_key(const ordered_json& job, const char* key) {
@@ -255,25 +199,41 @@ void run_job(const std::vector<std::string>& argv, JobResult& r) {
     r.error = "the job failed (exit " + std::to_string(r.exit_code) + ")";
 }
 
-Status write_results(const fs::path& path, const std::string& text) {
-  return write_atomically(path, [&](const fs::path& temp) -> Status {
-    std::ofstream out(temp, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) return make_error(ErrorCode::kIo, "cannot write results " + path.string());
+// --results: truncated at the start, then each job's line appended and
+// flushed as the job ends, so a batch that is killed keeps the record of the
+// jobs it finished.
+class ResultsFile {
+ public:
+  Status open(const std::string& path) {
+    path_ = path;
+    if (path.empty()) return ok_status();
+    if (Status s = check_writable(path); !s) return s;
+    out_.open(path, std::ios::binary | std::ios::trunc);
+    if (!out_) return make_error(ErrorCode::kIo, "cannot write results " + path);
     return ok_status();
-  });
-}
+  }
+  // Paths and messages may hold bytes that are not UTF-8 (a photo's name):
+  // those become U+FFFD rather than end the batch.
+  Status append(const ordered_json& line) {
+    if (path_.empty()) return ok_status();
+    out_ << line.dump(-1, ' ', false, ordered_json::error_handler_t::replace) << '\n';
+    out_.flush();
+    if (!out_) return make_error(ErrorCode::kIo, "cannot write results " + path_);
+    return ok_status();
+  }
+
+ private:
+  std::string path_;
+  std::ofstream out_;
+};
 
 int run_batch(const BatchOptions& o) {
   const auto start = Clock::now();
   Expected<Shard> shard = parse_shard(o.shard);
   if (!shard) return report_error(shard.error());
+  // The jobs file is an input, --results an output, of every job.
   if (Status s = check_distinct_files({{"JOBS", o.jobs}}, {{"--results", o.results}}); !s) {
     return report_error(s.error());
-  }
-  if (!o.results.empty()) {
-    if (Status s = check_writable(o.results); !s) return report_error(s.error());
   }
   if (Status s = check_regular_file(o.jobs, "a jobs file"); !s) return report_error(s.error());
   std::ifstream in(o.jobs, std::ios::binary);
@@ -288,44 +248,33 @@ int run_batch(const BatchOptions& o) {
   }
   if (in.bad()) return report_error(ErrorCode::kIo, o.jobs + ": read error");
 
-  std::string results;
+  ResultsFile results;
+  if (Status s = results.open(o.results); !s) return report_error(s.error());
   std::size_t ok = 0, failed = 0, skipped = 0, done = 0;
   for (const auto& [number, line] : lines) {
     const auto job_start = Clock::now();
     JobResult r;
     r.line = number;
-    ordered_json job;
-    Expected<std::vector<std::string>> argv = make_error(ErrorCode::kParse, "not a JSON object");
-    try {
-      job = ordered_json::parse(line);
-      if (job.is_object()) argv = job_argv(job, o.threads);
-    } catch (const ordered_json::parse_error& e) {
-      // Without nlohmann's "[json.exception.parse_error.101] " prefix.
-      const std::string what = e.what();
-      const std::size_t end = what.find("] ");
-      argv = make_error(
-          ErrorCode::kParse,
-          "not a JSON object (" + (end == std::string::npos ? what : what.substr(end + 2)) + ")");
-    }
+    Expected<BatchJob> job = parse_batch_line(line, o.threads);
     JobFileNames names;
-    if (argv) {
-      names = job_file_names(job);
+    if (job) {
+      names = job_file_names(job->keys);
       for (const NamedFile& out : job_outputs(names)) r.outputs.push_back(out.path);
       // No output may be an input: the jobs file is an input, --results an
       // output, of every job.
       JobFileNames in_batch = names;
       in_batch.manifest = o.jobs;
       in_batch.results = o.results;
-      if (Status s = check_job_files(in_batch); !s) argv = s.error();
+      if (Status s = check_job_files(in_batch); !s) job = s.error();
     }
-    if (!argv) {
+    if (!job) {
       r.status = "failed";
-      r.exit_code = exit_code(argv.error());
-      r.error = argv.error().message;
+      r.exit_code = exit_code(job.error());
+      r.error = job.error().message;
     } else if (o.skip_existing && up_to_date(job_files(names))) {
       r.status = "skipped";
     } else {
-      run_job(*argv, r);
+      run_job(job->argv, r);
     }
     r.seconds = seconds_since(job_start);
     ++done;
@@ -342,11 +291,8 @@ int run_batch(const BatchOptions& o) {
                    r.outputs.empty() || r.status == "failed" ? "" : " -> ",
                    r.outputs.empty() || r.status == "failed" ? "" : r.outputs[0].c_str());
     }
-    results += result_json(r).dump() + "\n";
+    if (Status s = results.append(result_json(r)); !s) return report_error(s.error());
     if (o.fail_fast && r.status == "failed") break;
-  }
-  if (!o.results.empty()) {
-    if (Status s = write_results(o.results, results); !s) return report_error(s.error());
   }
   if (!o.quiet) {
     std::printf("batch: %zu ok, %zu failed, %zu skipped, %zu not run of %zu jobs in %.2f s\n", ok,
@@ -368,7 +314,8 @@ RunFunction add_batch_command(CLI::App& app) {
   cmd->add_option("jobs", o->jobs, "the jobs file (JSON lines)")->required();
   cmd->add_option("--results", o->results,
                   "write one JSON line per job run (line, status, error, outputs, counts, "
-                  "timings) to this file");
+                  "timings) to this file, emptied at the start; each line is written as "
+                  "soon as its job ends");
   cmd->add_flag("--fail-fast", o->fail_fast, "stop at the first failing job");
   cmd->add_option("--shard", o->shard,
                   "K/N: run only the jobs whose index (line number - 1) modulo N is K")

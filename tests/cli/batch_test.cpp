@@ -1,9 +1,15 @@
 // texbake batch (SPEC section 12, issue #15): every job's output and error
 // are the single command's (the same argv run as `texbake bake`), failing
 // jobs are reported with their line and the others still run, exit codes,
-// --results, --fail-fast, --shard and --skip-existing.
+// --results (each line as its job ends), --fail-fast, --shard and
+// --skip-existing; a bad line (not JSON, nested too deep, a number out of
+// range, an unknown key, a value that looks like a flag) is that line's error.
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -165,8 +171,8 @@ TEST_F(BatchCli, FailFastStopsAtTheFirstFailure) {
   write_jobs({mushroom_job(out("a.ply")), "[1, 2]", mushroom_job(out("c.ply"))});
   const RunResult r = batch("--fail-fast --results " + shell_quote(out("r.jsonl")));
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_EQ(error_lines(r.err),
-            std::vector<std::string>{(dir / "jobs.jsonl").string() + ":2: not a JSON object"});
+  EXPECT_EQ(error_lines(r.err), std::vector<std::string>{(dir / "jobs.jsonl").string() +
+                                                         ":2: expected a JSON object, not array"});
   EXPECT_TRUE(fs::exists(out("a.ply")));
   EXPECT_FALSE(fs::exists(out("c.ply")));
   EXPECT_EQ(read_results(out("r.jsonl")).size(), 2u);
@@ -233,11 +239,131 @@ TEST_F(BatchCli, BadValuesNameTheKey) {
   EXPECT_EQ(r.exit_code, 1);
   const std::vector<std::string> e = error_lines(r.err);
   ASSERT_EQ(e.size(), 1u);
-  EXPECT_NE(e[0].find(":1: key \"center\": {\"x\":1} is not a value"), std::string::npos) << e[0];
+  EXPECT_NE(e[0].find(":1: key 'center': {\"x\":1} is not a value"), std::string::npos) << e[0];
   const RunResult missing = run_texbake("batch " + shell_quote(out("none.jsonl")));
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_EQ(error_lines(missing.err),
             std::vector<std::string>{out("none.jsonl") + ": no such file"});
+}
+
+TEST_F(BatchCli, BadLinesAreTheirOwnErrorsAndTheOthersRun) {
+  const std::string mesh = kData + "/mushroom.off", texture = kData + "/earth.jpg";
+  const std::string job =
+      R"("mesh":")" + mesh + R"(","texture":")" + texture + R"(","proxy":"sphere","output":")";
+  write_jobs({
+      // 1: nested 100,000 deep (crashed); `{"mesh": ` is 9 characters, the
+      // root level 1: the 128th '[' is level 129.
+      R"({"mesh": )" + std::string(100000, '[') + std::string(100000, ']') + "}",
+      // 2: a number beyond double's range (ended the whole batch).
+      "{" + job + out("b.ply") + R"(","samples":1e999})",
+      // 3: a good job, which runs.
+      "{" + job + out("c.ply") + R"("})",
+      // 4-6: values that look like flags are values: a mesh or texture file
+      // named "--help" (printed the help and counted as ok).
+      R"({"mesh":"--help","texture":")" + texture + R"(","proxy":"sphere","output":")" +
+          out("d.ply") + R"("})",
+      R"({"mesh":")" + mesh + R"(","texture":"--version","proxy":"sphere","output":")" +
+          out("e.ply") + R"("})",
+      // 6-10: keys that are no option of a job.
+      R"({"help":true})",
+      R"({"version":true})",
+      "{" + job + out("h.ply") + R"(","quiet":true})",
+      "{" + job + out("i.ply") + R"(","proxy-file":"p.json"})",
+      "{" + job + out("j.ply") + R"(","linear":"yes"})",
+      "{" + job + out("k.ply") + R"(","samples":true})",
+  });
+  const RunResult r = batch("--results " + shell_quote(out("results.jsonl")));
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  // No help or version text: stdout is the summary line only.
+  EXPECT_EQ(r.out.rfind("batch: 1 ok, 10 failed, 0 skipped, 0 not run of 11 jobs in ", 0), 0u)
+      << r.out;
+  EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << r.out;
+  EXPECT_TRUE(fs::exists(out("c.ply")));
+  for (const char* name : {"b", "d", "e", "h", "i", "j", "k"})
+    EXPECT_FALSE(fs::exists(out(std::string(name) + ".ply"))) << name;
+
+  const std::string jobs = (dir / "jobs.jsonl").string();
+  const std::vector<std::string> want = {
+      "1: key 'mesh' nests deeper than 128 levels (line 1, column 137)",
+      "2: key 'samples' holds a number that is not finite (1e999 at line 1, column " +
+          std::to_string(job.size() + out("b.ply").size() + 14) + ")",
+      "4: --help: no such file",
+      "5: --version: no such file",
+      "6: key 'help' is not an option of texbake bake",
+      "7: key 'version' is not an option of texbake bake",
+      "8: key 'quiet' is the batch's option (texbake batch --quiet), not a job's",
+      "9: key 'proxy-file' is not an option of texbake bake (did you mean 'proxy_file'?)",
+      "10: key 'linear': \"yes\" is not true or false (a flag)",
+      "11: key 'samples': true is not a value of the command line (the option takes one, not a "
+      "flag's true or false)",
+  };
+  const std::vector<std::string> errors = error_lines(r.err);
+  ASSERT_EQ(errors.size(), want.size()) << r.err;
+  for (std::size_t i = 0; i < want.size(); ++i) EXPECT_EQ(errors[i], jobs + ":" + want[i]);
+
+  // Every line has its result; bad JSON is a bad file (1), a bad key a
+  // usage error (2), as for the single command.
+  const std::vector<nlohmann::json> results = read_results(out("results.jsonl"));
+  ASSERT_EQ(results.size(), 11u);
+  const int exits[] = {1, 1, 0, 1, 1, 2, 2, 2, 2, 2, 2};
+  for (int i = 0; i < 11; ++i) {
+    EXPECT_EQ(results[i]["line"], i + 1);
+    EXPECT_EQ(results[i]["exit"], exits[i]) << i + 1;
+    EXPECT_EQ(results[i]["status"], i == 2 ? "ok" : "failed") << i + 1;
+  }
+  EXPECT_EQ(results[5]["error"], "key 'help' is not an option of texbake bake");
+}
+
+// Lines in a file, counted by their newlines.
+std::size_t line_count(const fs::path& path) {
+  const std::string text = slurp(path);
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST_F(BatchCli, ResultsKeepEveryFinishedJobWhenTheBatchIsKilled) {
+  constexpr int kJobs = 40;
+  std::vector<std::string> lines;
+  for (int i = 0; i < kJobs; ++i)
+    lines.push_back(mushroom_job(out("m" + std::to_string(i) + ".ply")));
+  const fs::path jobs = write_jobs(lines);
+  // An older results file is emptied at the start.
+  const fs::path results = dir / "results.jsonl";
+  std::ofstream(results) << "old line 1\nold line 2\nold line 3\n";
+
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (std::freopen("/dev/null", "w", stderr) == nullptr) ::_exit(127);
+    ::execl(TEXBAKE_BINARY, "texbake", "batch", jobs.c_str(), "--results", results.c_str(),
+            "--threads", "1", "-q", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Killed (SIGKILL: no clean-up of any kind) once two jobs have their line.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while ((slurp(results).rfind("old line", 0) == 0 || line_count(results) < 2) &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ::kill(pid, SIGKILL);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the batch ended before it was killed";
+
+  // Every line is a whole result of a finished job, in order; every job
+  // whose output exists has its line, but the one that may have been killed
+  // between writing its output and its line.
+  const std::vector<nlohmann::json> got = read_results(results);
+  ASSERT_GE(got.size(), 2u);
+  ASSERT_LT(got.size(), static_cast<std::size_t>(kJobs));
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i]["line"], i + 1);
+    EXPECT_EQ(got[i]["status"], "ok");
+    EXPECT_TRUE(fs::exists(out("m" + std::to_string(i) + ".ply")));
+  }
+  std::size_t outputs = 0;
+  for (int i = 0; i < kJobs; ++i) outputs += fs::exists(out("m" + std::to_string(i) + ".ply"));
+  EXPECT_GE(outputs, got.size());
+  EXPECT_LE(outputs, got.size() + 1);
 }
 
 }  // namespace

@@ -73,6 +73,24 @@ TEST(CameraJson, BadCamerasNameTheKey) {
   }
 }
 
+TEST(CameraJson, DeepNestingAndHugeNumbersNameTheKey) {
+  Expected<CameraProjector> c =
+      camera_from_json(R"({"kind":"camera","pose":{"eye":)" + std::string(100000, '['), "cam.json");
+  ASSERT_FALSE(c);
+  EXPECT_EQ(c.error().code, ErrorCode::kParse);
+  // `{"kind":"camera","pose":{"eye":` is 31 characters; root and pose are
+  // levels 1 and 2: the 127th '[' is level 129.
+  EXPECT_EQ(c.error().message,
+            "cam.json: key 'pose.eye' nests deeper than 128 levels (line 1, column 158)");
+  c = camera_from_json(camera_with(R"({"eye":[0,-5e999,0],"target":[0,0,0],"up":[0,0,1]})"),
+                       "cam.json");
+  ASSERT_FALSE(c);
+  EXPECT_EQ(c.error().message.rfind(
+                "cam.json: key 'pose.eye' holds a number that is not finite (-5e999 at line 1", 0),
+            0u)
+      << c.error().message;
+}
+
 TEST(CameraJson, CameraLists) {
   const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "camera_list";
   std::filesystem::create_directories(dir);
@@ -89,6 +107,13 @@ TEST(CameraJson, CameraLists) {
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().message,
             (dir / "no_image.json").string() + ": cameras[0]: key 'image' must name the photo");
+  // A camera list nested too deep: the file, the line and the keys.
+  std::ofstream(dir / "deep.json") << "{\"cameras\":[\n{\"pose\":" << std::string(90000, '[');
+  bad = read_camera_list(dir / "deep.json");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message, (dir / "deep.json").string() +
+                                     ": key 'cameras.pose' nests deeper than 128 levels (line 2, "
+                                     "column 134)");
   std::ofstream(dir / "empty.json") << R"({"cameras":[]})";
   EXPECT_FALSE(read_camera_list(dir / "empty.json"));
   Expected<std::vector<CameraListEntry>> missing = read_camera_list(dir / "missing.json");

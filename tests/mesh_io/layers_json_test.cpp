@@ -132,5 +132,28 @@ TEST(LayersJson, ErrorsNameTheFileAndTheKey) {
   }
 }
 
+TEST(LayersJson, DeepInlineProxiesAndHugeNumbersAreErrorsOfTheFile) {
+  // An inline proxy nested 90,000 deep crashed (its value was printed back
+  // to text for the proxy reader); now the file's parse stops at level 129:
+  // root, "layers", the layer, "proxy" and 125 arrays of "center". Line 2
+  // starts with `{"proxy":{"kind":"sphere","center":` (35 characters).
+  const std::string deep =
+      "{\"layers\":[\n{\"proxy\":{\"kind\":\"sphere\",\"center\":" + std::string(90000, '[');
+  Expected<LayersSpec> spec = layers_from_json(deep, "/d", "L.json");
+  ASSERT_FALSE(spec);
+  EXPECT_EQ(spec.error().code, ErrorCode::kParse);
+  EXPECT_EQ(spec.error().message,
+            "L.json: key 'layers.proxy.center' nests deeper than 128 levels (line 2, column 160)");
+  spec = layers_from_json(
+      R"({"layers":[{)" + std::string(kSphere) + R"(,"texture":"a","opacity":1e999}]})", "/d",
+      "L.json");
+  ASSERT_FALSE(spec);
+  EXPECT_EQ(
+      spec.error().message.rfind(
+          "L.json: key 'layers.opacity' holds a number that is not finite (1e999 at line 1", 0),
+      0u)
+      << spec.error().message;
+}
+
 }  // namespace
 }  // namespace texbake

@@ -146,6 +146,15 @@ TEST(ProxyJson, NonFiniteNumbersAreRejected) {
                {"not valid JSON"});
 }
 
+TEST(ProxyJson, DeepNestingIsRefusedNamingTheKey) {
+  // 100,000 levels overflowed the stack when the value was converted; the
+  // shared parse (mesh_io/json_strict.h) stops at 128 levels. `{"kind":
+  // "sphere","center":` is 26 characters, the root is level 1: the 128th '['
+  // is level 129, column 26 + 128.
+  expect_error(R"({"kind":"sphere","center":)" + std::string(100000, '['),
+               {"key 'center' nests deeper than 128 levels (line 1, column 154)"});
+}
+
 TEST(ProxyJson, GeometryErrorsNameTheKey) {
   expect_error(R"({"kind":"sphere","center":[0,0,0],"radius":1,"pole":[0,0,0]})", {"pole", "zero"});
   expect_error(R"({"kind":"sphere","center":[0,0,0],"radius":1,"pole":[0,0,1],"equator":[0,0,2]})",
@@ -214,6 +223,22 @@ TEST_F(ProxyFile, ErrorsNameTheFile) {
   p = read_proxy_file(dir_);
   ASSERT_FALSE(p.has_value());
   EXPECT_EQ(p.error().code, ErrorCode::kIo);
+  // A number beyond double's range and a value nested too deep: the file,
+  // the key and the line (the value starts on line 2).
+  std::ofstream(bad)
+      << "{\"kind\":\"sphere\",\n\"radius\":1e999,\"center\":[0,0,0],\"pole\":[0,0,1]}";
+  p = read_proxy_file(bad);
+  ASSERT_FALSE(p.has_value());
+  EXPECT_EQ(p.error().code, ErrorCode::kParse);
+  EXPECT_EQ(p.error().message,
+            bad.string() +
+                ": key 'radius' holds a number that is not finite (1e999 at line 2, "
+                "column 10)");
+  std::ofstream(bad) << "{\"kind\":\"sphere\",\n\"pole\":" << std::string(90000, '[');
+  p = read_proxy_file(bad);
+  ASSERT_FALSE(p.has_value());
+  EXPECT_EQ(p.error().message,
+            bad.string() + ": key 'pole' nests deeper than 128 levels (line 2, column 135)");
 }
 
 }  // namespace
