@@ -87,22 +87,21 @@ AtlasOptions photo_atlas_options(py::handle uv, py::handle size, py::handle samp
 void bind_photo_bakes(py::module_& m) {
   m.def("bake_vertex_from_photos", [](const LoadedMesh& mesh, py::handle cameras, py::handle images,
                                       py::handle blend, py::handle exposure, py::handle occluded,
-                                      py::handle colorspace, bool strict_photos,
-                                      py::handle threads, py::object progress) {
+                                      py::handle colorspace, bool strict_photos, py::handle threads,
+                                      py::object progress) {
     const PhotoBakeOptions o = photo_options(blend, exposure, occluded, colorspace, strict_photos);
     return vertex_from_photos(mesh, read_photos(cameras, images), o, threads, std::move(progress));
   });
-  m.def("bake_atlas_from_photos",
-        [](const LoadedMesh& mesh, py::handle cameras, py::handle images, py::handle blend,
-           py::handle exposure, py::handle occluded, py::handle colorspace, bool strict_photos,
-           py::handle uv, py::handle size, py::handle samples, py::handle padding,
-           py::handle threads, py::object progress) {
-          const PhotoBakeOptions o =
-              photo_options(blend, exposure, occluded, colorspace, strict_photos);
-          const AtlasOptions a = photo_atlas_options(uv, size, samples, padding);
-          return atlas_from_photos(mesh, read_photos(cameras, images), o, a, threads,
-                                   std::move(progress));
-        });
+  m.def("bake_atlas_from_photos", [](const LoadedMesh& mesh, py::handle cameras, py::handle images,
+                                     py::handle blend, py::handle exposure, py::handle occluded,
+                                     py::handle colorspace, bool strict_photos, py::handle uv,
+                                     py::handle size, py::handle samples, py::handle padding,
+                                     py::handle threads, py::object progress) {
+    const PhotoBakeOptions o = photo_options(blend, exposure, occluded, colorspace, strict_photos);
+    const AtlasOptions a = photo_atlas_options(uv, size, samples, padding);
+    return atlas_from_photos(mesh, read_photos(cameras, images), o, a, threads,
+                             std::move(progress));
+  });
   m.def("bake_vertex_from_camera", [](const LoadedMesh& mesh, py::handle camera, py::handle photo,
                                       py::handle occluded, py::handle colorspace,
                                       py::handle threads, py::object progress) {
