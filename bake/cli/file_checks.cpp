@@ -2,7 +2,17 @@
 
 #include <iostream>
 
+#include "mesh_io/atomic_file.h"
+
 namespace texbake::cli {
+
+Status check_job_before_work(const JobFileNames& job) {
+  if (Status s = check_job_files(job); !s) return s;
+  for (const NamedFile& f : job_outputs(job)) {
+    if (Status s = check_writable(f.path); !s) return s;
+  }
+  return ok_status();
+}
 
 void warn_nonfinite(const Image& image, const std::string& name) {
   if (image.nonfinite_values > 0) {

@@ -7,6 +7,7 @@
 
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/commands.h"
+#include "bake/cli/file_checks.h"
 #include "bake/cli/photo_target.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/report.h"
@@ -151,13 +152,7 @@ int run_layers_bake(const LayersJob& job) {
   files.atlas = job.atlas;
   files.write = job.write;
   files.report = job.report;
-  const std::vector<NamedFile> written = job_outputs(files);
-  if (Status s = check_distinct_files(job_inputs(files), written); !s) {
-    return report_error(s.error());
-  }
-  for (const NamedFile& f : written) {
-    if (Status s = check_writable(f.path); !s) return report_error(s.error());
-  }
+  if (Status s = check_job_before_work(files); !s) return report_error(s.error());
   auto stage = Clock::now();
   Expected<LayersSpec> spec = read_layers(job.layers);
   if (!spec) return report_error(spec.error());
@@ -166,7 +161,8 @@ int run_layers_bake(const LayersJob& job) {
   if (job.atlas && mesh->mesh.has_texture()) {
     // Nor the base texture, named by the mesh.
     const std::vector<NamedFile> read{{"the texture of MESH", mesh->mesh.texture_path}};
-    if (Status s = check_distinct_files(read, written); !s) return report_error(s.error());
+    if (Status s = check_distinct_files(read, job_outputs(files)); !s)
+      return report_error(s.error());
   }
   const double load = seconds_since(stage);
 

@@ -8,6 +8,7 @@
 #include "bake/cli/atlas_target.h"
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
+#include "bake/cli/file_checks.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/report.h"
 #include "bake/util/timing.h"
@@ -178,13 +179,7 @@ int check_outputs(const PhotoJob& job) {
   files.atlas = job.atlas;
   files.write = job.write;
   files.report = job.report;
-  const std::vector<NamedFile> written = job_outputs(files);
-  if (Status s = check_distinct_files(job_inputs(files), written); !s) {
-    return report_error(s.error());
-  }
-  for (const NamedFile& f : written) {
-    if (Status s = check_writable(f.path); !s) return report_error(s.error());
-  }
+  if (Status s = check_job_before_work(files); !s) return report_error(s.error());
   return 0;
 }
 
