@@ -21,17 +21,10 @@ source "$(dirname "${BASH_SOURCE[0]}")/fuzz.sh"  # sources setup.sh, installs al
 TEXBAKE_ASAN_BUILD=${TEXBAKE_ASAN_BUILD:-$TEXBAKE_ROOT/build-asan}
 texbake_jobs=$(nproc 2>/dev/null || echo 2)
 
-# Tests left out of the sanitizer stage, because they run 10-100x slower
-# under ASan and cover no code the remaining tests do not: UV generation on
-# the data/ meshes (Data/...), UV generation twice for the
-# thread-count comparison, the SIGKILL tests (a 360k-vertex bake, several
-# times), the signal tests of tests/cli/hardening_test.cpp (4096 atlases,
-# twice each) and the glTF validation (tests/gltf: bunny bakes through the
-# CLI; it checks the files, whose writers the unit tests run under ASan) and
-# the memory budget (MemoryBudget: ASan's shadow memory and quarantine add
-# hundreds of MiB to the peak it measures, so the figure means nothing there).
-# The Release stage runs them all.
-texbake_asan_exclude='SetupOrder|Data|IdenticalWithOneAndTwoThreads|BakeAtomicity|Hardening.Sig|GltfValidator|MemoryBudget'
+# Tests left out of the sanitizer stage: tests/asan_exclude.txt, one regular
+# expression per line with the reason beside it, joined with '|'.
+texbake_asan_exclude=$(sed -e 's/#.*//' -e 's/[[:space:]]*$//' -e '/^$/d' \
+  "$TEXBAKE_ROOT/tests/asan_exclude.txt" | paste -sd '|')
 
 TEXBAKE_TSAN_BUILD=${TEXBAKE_TSAN_BUILD:-$TEXBAKE_ROOT/build-tsan}
 # The tests that run the same work at several thread counts (their names say
