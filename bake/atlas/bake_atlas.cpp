@@ -107,33 +107,6 @@ inline void store_texel(const SampleContext& ctx, uint32_t t, const std::array<d
   store_color(ctx, t, ctx.shade.stored(mean));
 }
 
-// --filter ewa: the surface footprint of a supersample on triangle t, the
-// 3D vectors of one cell step in the atlas's u and in its v (the triangle's
-// UV-to-3D map is affine: P = P0 + s dP/ds + t dP/dt over UV (s, t)). A
-// triangle whose UVs are degenerate has none (zero vectors: bilinear).
-void cell_tangents(const MeshData& mesh, uint32_t t, double cell, Vec3& ts, Vec3& tt) {
-  const auto& tri = mesh.triangles[t];
-  const auto& corners = mesh.triangle_corners[t];
-  Vec3 p[3];
-  double s[3], v[3];
-  for (int k = 0; k < 3; ++k) {
-    const Float3 q = mesh.positions[tri[k]];
-    p[k] = {q.x, q.y, q.z};
-    const Float2 uv = mesh.uvs[mesh.corner_uv[corners[k]]];
-    s[k] = uv.u;
-    v[k] = uv.v;
-  }
-  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
-  const double s1 = s[1] - s[0], s2 = s[2] - s[0], v1 = v[1] - v[0], v2 = v[2] - v[0];
-  const double det = s1 * v2 - s2 * v1;
-  if (!(std::abs(det) > 0) || !std::isfinite(det)) {
-    ts = tt = Vec3{};
-    return;
-  }
-  ts = (e1 * v2 - e2 * v1) * (cell / det);
-  tt = (e2 * s1 - e1 * s2) * (cell / det);
-}
-
 Vec3 sample_point(const MeshData& mesh, uint32_t t, float b1, float b2) {
   const auto& tri = mesh.triangles[t];
   const Float3 a = mesh.positions[tri[0]], b = mesh.positions[tri[1]], c = mesh.positions[tri[2]];
@@ -277,6 +250,37 @@ int64_t nanoseconds(Clock::duration d) {
 
 }  // namespace
 
+// --filter ewa: the surface footprint of a supersample on triangle t, the
+// 3D vectors of one cell step in the atlas's u and in its v (the triangle's
+// UV-to-3D map is affine: P = P0 + s dP/ds + t dP/dt over UV (s, t)).
+void cell_tangents(const MeshData& mesh, uint32_t t, double cell, Vec3& ts, Vec3& tt) {
+  const auto& tri = mesh.triangles[t];
+  const auto& corners = mesh.triangle_corners[t];
+  Vec3 p[3];
+  double s[3], v[3];
+  for (int k = 0; k < 3; ++k) {
+    const Float3 q = mesh.positions[tri[k]];
+    p[k] = {q.x, q.y, q.z};
+    const Float2 uv = mesh.uvs[mesh.corner_uv[corners[k]]];
+    s[k] = uv.u;
+    v[k] = uv.v;
+  }
+  const Vec3 e1 = p[1] - p[0], e2 = p[2] - p[0];
+  const double s1 = s[1] - s[0], s2 = s[2] - s[0], v1 = v[1] - v[0], v2 = v[2] - v[0];
+  const double det = s1 * v2 - s2 * v1;
+  if (!(std::abs(det) > 0) || !std::isfinite(det)) {
+    ts = tt = Vec3{};
+    return;
+  }
+  ts = (e1 * v2 - e2 * v1) * (cell / det);
+  tt = (e2 * s1 - e1 * s2) * (cell / det);
+}
+
+double ewa_cell(int size, int samples) {  // see bake_atlas for the 0.85
+  constexpr double kOneSampleEllipse = 0.85;
+  return 1.0 / (size * std::sqrt(2.0 * samples)) * (samples == 1 ? kOneSampleEllipse : 1.0);
+}
+
 Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& image,
                                      const Proxy& proxy, const AtlasBakeOptions& options,
                                      Progress* progress) {
@@ -378,9 +382,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
     // 35.76 at 4096. With several samples the cells' lookups overlap in the
     // texel's mean and the corner ellipse is best (at 4 samples 0.85 loses
     // 0.5 to 0.7 dB).
-    constexpr double kOneSampleEllipse = 0.85;
-    ctx.cell = 1.0 / (options.size * std::sqrt(2.0 * options.samples)) *
-               (options.samples == 1 ? kOneSampleEllipse : 1.0);
+    ctx.cell = ewa_cell(options.size, options.samples);
   }
   ctx.fill_colors = fill_first ? &fill_colors : nullptr;
   ctx.occluded_color = sh.occluded_color;

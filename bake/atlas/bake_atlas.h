@@ -63,6 +63,7 @@
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/proxy.h"
+#include "mapping/vec.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/mesh_data.h"
 
@@ -133,6 +134,16 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& uv_mesh, const ImageView& i
 // kPaddingDefault or kPaddingInfinite: see the file comment). Returns the
 // texels filled. Shared with the photo atlas (bake/photo/photo_atlas.h).
 std::size_t pad_atlas(std::span<float> rgba, std::span<const uint8_t> baked, int size, int padding);
+
+// --filter ewa on the atlas (shared with the layers engine, bake/layers):
+// the surface footprint of a supersample on triangle t of uv_mesh, the 3D
+// vectors of `cell` (atlas UV units) step in the atlas's u and in its v (the
+// triangle's UV-to-3D map is affine); a triangle whose UVs are degenerate
+// has none (zero vectors: bilinear). ewa_cell(size, samples) is that cell
+// step: the supersample's cell side 1 / (size sqrt(samples)) over sqrt(2)
+// (the ellipse through the cell's corners), 0.85 of it at one sample per texel.
+void cell_tangents(const MeshData& uv_mesh, uint32_t t, double cell, Vec3& ts, Vec3& tt);
+double ewa_cell(int size, int samples);
 
 // A copy of `mesh` whose faces are its triangles, with per-corner UVs from a
 // per-triangle UV table (triangle_uvs[t][k] indexes uvs for corner k of

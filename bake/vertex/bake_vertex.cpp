@@ -8,13 +8,13 @@
 #include <variant>
 
 #include "bake/shade/footprint.h"
-#include "bake/shade/sample_pattern.h"
 #include "bake/shade/shade.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
 #include "bake/vertex/occlusion_fill.h"
+#include "bake/vertex/vertex_share.h"
 #include "mapping/derivatives.h"
 #include "mapping/mipmap.h"
 #include "mapping/sample.h"
@@ -47,32 +47,6 @@ enum VertexState : uint8_t { kVisible = 0, kOccluded = 1, kUndefined = 2 };
 
 Vec3 to_vec(const Float3& p) {
   return {p.x, p.y, p.z};
-}
-
-// Per-(vertex, sample) jitter in [0, 1), without generator state.
-double hash01(uint64_t vertex, uint64_t index) {
-  return unit_double(hash_pair(vertex, index));
-}
-
-// Vertex -> adjacent triangles (CSR), by counting sort over MeshData::triangles.
-struct Adjacency {
-  std::vector<uint32_t> offsets;    // size vertex_count + 1
-  std::vector<uint32_t> triangles;  // triangle indices, ascending per vertex
-};
-
-Adjacency build_adjacency(const MeshData& mesh) {
-  Adjacency adj;
-  adj.offsets.assign(mesh.positions.size() + 1, 0);
-  for (const auto& tri : mesh.triangles) {
-    for (uint32_t v : tri) ++adj.offsets[v + 1];
-  }
-  for (std::size_t v = 0; v < mesh.positions.size(); ++v) adj.offsets[v + 1] += adj.offsets[v];
-  adj.triangles.resize(adj.offsets.back());
-  std::vector<uint32_t> cursor(adj.offsets.begin(), adj.offsets.end() - 1);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    for (uint32_t v : mesh.triangles[t]) adj.triangles[cursor[v]++] = static_cast<uint32_t>(t);
-  }
-  return adj;
 }
 
 // Everything a chunk reads, shared by all chunks.
@@ -122,27 +96,16 @@ void accumulate(const BakeContext& ctx, const MapResult& m, Accumulator& acc, Ch
 // has a mapping. vertex_map is proxy.inverse_map(position of v).
 template <class P>
 std::optional<Rgba> vertex_color(const P& proxy, const BakeContext& ctx, uint32_t v,
-                                 const MapResult& vertex_map, std::vector<double>& cdf,
+                                 const MapResult& vertex_map, VertexShare& share,
                                  ChunkCounts& counts) {
   const MeshData& mesh = *ctx.mesh;
   Accumulator acc;
-  const uint32_t first = ctx.adjacency ? ctx.adjacency->offsets[v] : 0;
-  const uint32_t k = ctx.adjacency ? ctx.adjacency->offsets[v + 1] - first : 0;
-  const Vec3 a = to_vec(mesh.positions[v]);
-
-  double total = 0;
-  Vec3 normal;  // sum of the triangles' area vectors (twice their areas)
-  if (k > 0) {
-    cdf.resize(k);
-    for (uint32_t j = 0; j < k; ++j) {
-      const auto& tri = mesh.triangles[ctx.adjacency->triangles[first + j]];
-      const Vec3 p0 = to_vec(mesh.positions[tri[0]]);
-      const Vec3 e =
-          cross(to_vec(mesh.positions[tri[1]]) - p0, to_vec(mesh.positions[tri[2]]) - p0);
-      total += 0.5 * length(e);
-      normal += e;
-      cdf[j] = total;
-    }
+  if (ctx.adjacency) {
+    vertex_share(mesh, *ctx.adjacency, v, share);
+  } else {
+    share.count = 0;
+    share.total = 0;
+    share.normal = Vec3{};
   }
   if (ctx.options->filter == VertexFilter::kEwa) {
     // One EWA lookup at the vertex. Its footprint on the surface: the
@@ -151,49 +114,19 @@ std::optional<Rgba> vertex_color(const P& proxy, const BakeContext& ctx, uint32_
     // perpendicular tangents of length sqrt(total / 3); in (u, v) through
     // the Jacobian at the vertex. A vertex without triangles: bilinear.
     Vec3 t1, t2;
-    isotropic_tangents(normal, total / 3, t1, t2);
-    accumulate(ctx, vertex_map, acc, counts, uv_footprint(inverse_map_jacobian(proxy, a), t1, t2));
+    isotropic_tangents(share.normal, share.total / 3, t1, t2);
+    accumulate(ctx, vertex_map, acc, counts,
+               uv_footprint(inverse_map_jacobian(proxy, to_vec(mesh.positions[v])), t1, t2));
     if (acc.count == 0) return std::nullopt;
     return acc.mean();
   }
-  if (!(total > 0)) {  // bilinear filter, or a vertex in no (non-degenerate) triangle
+  if (!(share.total > 0)) {  // bilinear filter, or a vertex in no (non-degenerate) triangle
     accumulate(ctx, vertex_map, acc, counts);
     if (acc.count == 0) return std::nullopt;
     return acc.mean();
   }
-
-  const int n = ctx.options->samples;
-  // Rotation of the second coordinate per vertex (Cranley-Patterson).
-  const double rotation = hash01(v, 0xFFFFFFFFull);
-  uint32_t j = 0;
-  for (int s = 0; s < n; ++s) {
-    // x: stratified (one sample per 1/n of the vertex's share, jittered),
-    // y: a rotated van der Corput point, so (x, y) is a jittered Hammersley set.
-    const double x = (s + hash01(v, static_cast<uint64_t>(s))) / n;
-    double y = radical_inverse2(static_cast<uint32_t>(s)) + rotation;
-    if (y >= 1) y -= 1;
-    // x runs over the cumulative area: find the triangle (x grows with s).
-    const double target = x * total;
-    while (j + 1 < k && cdf[j] <= target) ++j;
-    const double before = j > 0 ? cdf[j - 1] : 0.0;
-    const double local = std::clamp((target - before) / (cdf[j] - before), 0.0, 1.0);
-
-    // The vertex's share of triangle (a, b, c) is the quad a, (a+b)/2,
-    // centroid, (a+c)/2: two triangles of equal area, split on `local`.
-    const auto& tri = mesh.triangles[ctx.adjacency->triangles[first + j]];
-    const int at = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-    const Vec3 b = to_vec(mesh.positions[tri[(at + 1) % 3]]);
-    const Vec3 c = to_vec(mesh.positions[tri[(at + 2) % 3]]);
-    const Vec3 centroid = (a + b + c) / 3.0;
-    const bool first_half = local < 0.5;
-    const double r1 = first_half ? 2 * local : 2 * local - 1;
-    const Vec3 q1 = first_half ? (a + b) * 0.5 : centroid;
-    const Vec3 q2 = first_half ? centroid : (a + c) * 0.5;
-    // Uniform point in triangle (a, q1, q2) (Shirley's square-to-triangle map).
-    const double su = std::sqrt(r1);
-    const Vec3 p = a * (1 - su) + q1 * (su * (1 - y)) + q2 * (su * y);
-    accumulate(ctx, proxy.inverse_map(p), acc, counts);
-  }
+  for_share_points(mesh, *ctx.adjacency, v, share, ctx.options->samples,
+                   [&](const Vec3& p) { accumulate(ctx, proxy.inverse_map(p), acc, counts); });
   if (acc.count == 0) return std::nullopt;
   return acc.mean();
 }
@@ -203,7 +136,7 @@ struct ChunkScratch {
   std::vector<MapResult> maps;
   std::vector<uint32_t> ray_vertex;
   std::vector<uint8_t> visible;
-  std::vector<double> cdf;
+  VertexShare share;
   VisibilityBatch batch;
 };
 
@@ -246,7 +179,7 @@ void bake_chunk(const P& proxy, const BakeContext& ctx, std::size_t begin, std::
     if (state[v] == kUndefined) continue;
     if (state[v] == kOccluded && !need_occluded_colors) continue;
     const std::optional<Rgba> c = vertex_color(proxy, ctx, static_cast<uint32_t>(v),
-                                               scratch.maps[i - begin], scratch.cdf, counts);
+                                               scratch.maps[i - begin], scratch.share, counts);
     if (c) {
       colors[v] = *c;
     } else {
@@ -401,7 +334,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   if (unknown_count > 0) {
     ChunkCounts fallback_counts;
     std::optional<Rgba> mean;
-    std::vector<double> cdf;
+    VertexShare share;
     // Unanchored components take the projected colour; vertices without any
     // mapping take the image's mean colour (never black, never arbitrary).
     auto fallback = [&](uint32_t v) -> Rgba {
@@ -409,7 +342,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
         return std::visit(
             [&](const auto& p) -> Rgba {
               const MapResult m = p.inverse_map(to_vec(mesh.positions[v]));
-              if (auto c = vertex_color(p, ctx, v, m, cdf, fallback_counts)) return *c;
+              if (auto c = vertex_color(p, ctx, v, m, share, fallback_counts)) return *c;
               if (!mean) mean = image_mean(ctx.shade.image);
               return *mean;
             },
