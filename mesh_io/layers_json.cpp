@@ -4,6 +4,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <variant>
 
 #include "mesh_io/json_strict.h"
 #include "mesh_io/proxy_json.h"
@@ -58,14 +59,15 @@ Expected<E> keyword(const json& v, const std::string& where,
 
 Expected<LayerSpec> read_layer(const json& o, const fs::path& folder, const std::string& where) {
   if (!o.is_object()) return fail(where, "a layer must be a JSON object");
-  static const std::set<std::string> keys = {"proxy",      "proxy_file", "cameras", "images",
-                                             "texture",    "mask",       "opacity", "mode",
-                                             "angle_fade", "visibility", "outside"};
+  static const std::set<std::string> keys = {
+      "proxy", "proxy_file", "cameras",    "images",  "texture", "mask",    "opacity",
+      "mode",  "angle_fade", "visibility", "outside", "filter",  "samples", "wrap"};
   for (const auto& [key, value] : o.items()) {
     if (!keys.count(key)) {
       return fail(where, "unknown key '" + key +
                              "' (expected proxy, proxy_file, cameras, images, texture, mask, "
-                             "opacity, mode, angle_fade, visibility, outside)");
+                             "opacity, mode, angle_fade, visibility, outside, filter, samples, "
+                             "wrap)");
     }
   }
   const int projectors = o.contains("proxy") + o.contains("proxy_file") + o.contains("cameras");
@@ -164,6 +166,46 @@ Expected<LayerSpec> read_layer(const json& o, const fs::path& folder, const std:
       layer.outside = *k;
     }
   }
+  if (o.contains("filter")) {
+    Expected<LayerFilter> f = keyword<LayerFilter>(o["filter"], where + ".filter",
+                                                   {{"bilinear", LayerFilter::kBilinear},
+                                                    {"area", LayerFilter::kArea},
+                                                    {"ewa", LayerFilter::kEwa}});
+    if (!f) return f.error();
+    layer.filter = *f;
+    if (!layer.cameras.empty() && layer.filter != LayerFilter::kBilinear) {
+      return fail(where + ".filter",
+                  "a cameras layer takes the photo bake's bilinear lookup (only \"bilinear\" "
+                  "applies)");
+    }
+    if (layer.filter == LayerFilter::kEwa && layer.projector &&
+        std::holds_alternative<CameraProjector>(*layer.projector)) {
+      return fail(where + ".filter",
+                  "\"ewa\" needs an analytic proxy's footprint (a camera takes \"bilinear\" or "
+                  "\"area\")");
+    }
+  }
+  if (o.contains("samples")) {
+    const json& v = o["samples"];
+    if (!v.is_number_integer() || v.get<long long>() < 1 || v.get<long long>() > 65536) {
+      return fail(where + ".samples", "must be an integer in 1 .. 65536");
+    }
+    if (layer.filter != LayerFilter::kArea) {
+      return fail(where + ".samples", "applies to \"filter\": \"area\" only");
+    }
+    layer.samples = static_cast<int>(v.get<long long>());
+  }
+  if (o.contains("wrap")) {
+    Expected<WrapMode> w = keyword<WrapMode>(
+        o["wrap"], where + ".wrap", {{"clamp", WrapMode::kClamp}, {"repeat", WrapMode::kRepeat}});
+    if (!w) return w.error();
+    const Proxy* proxy = layer.projector ? std::get_if<Proxy>(&*layer.projector) : nullptr;
+    if (!proxy || !std::holds_alternative<Plane>(*proxy)) {
+      return fail(where + ".wrap",
+                  "applies to a plane proxy only (the other projectors' wraps are fixed)");
+    }
+    layer.wrap = *w;
+  }
   if (!layer.cameras.empty()) {
     // Several photos have no single (u, v) to put a mask, a clamp or an
     // outside colour through, and a photo shows only what its camera saw.
@@ -213,6 +255,7 @@ Expected<LayersSpec> layers_from_json(std::string_view text, const fs::path& fol
     }
   }
   LayersSpec spec;
+  spec.source = source;
   if (root.contains("base")) {
     const json& b = root["base"];
     if (b.is_array()) {

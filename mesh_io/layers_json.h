@@ -5,15 +5,22 @@
 //                "images": "photos/", "texture": "label.png", "mask": "m.png",
 //                "opacity": 1.0, "mode": "over" | "multiply" | "add" | "replace",
 //                "angle_fade": [60, 80], "visibility": "first" | "all",
-//                "outside": "transparent" | "clamp" | [r,g,b,a]}]}
+//                "outside": "transparent" | "clamp" | [r,g,b,a],
+//                "filter": "bilinear" | "area" | "ewa", "samples": 16,
+//                "wrap": "clamp" | "repeat"}]}
 // Paths are relative to the layers file's folder (absolute ones stay). A
 // layer's projector is exactly one of "proxy" (an inline proxy or camera
 // object, mesh_io/proxy_json.h), "proxy_file" (a proxy or camera file) and
 // "cameras" (a COLMAP model or camera list, with optional "images").
 // "texture" is required unless the layer has "cameras" (whose photos are
 // the images), where it is an error; a "cameras" layer takes no "mask", and
-// only "outside" "transparent" and "visibility" "first". Defaults: base "none", opacity 1, mode
-// "over", no angle fade, visibility "first", outside "transparent".
+// only "outside" "transparent" and "visibility" "first". "filter" is the
+// image's lookup as bake --filter names it: "bilinear" (the default),
+// "area" (the vertex target; "samples" lookups per vertex, default 16, 1 ..
+// 65536) and "ewa" (an analytic proxy, not a camera); a cameras layer takes
+// "bilinear" only. "wrap" (a plane proxy only) is bake --wrap. Defaults:
+// base "none", opacity 1, mode "over", no angle fade, visibility "first",
+// outside "transparent", filter "bilinear", wrap "clamp".
 //
 // Errors are kParse (kIo when a file cannot be read) and start with the file
 // and the key, e.g. "L.json: layers[1].opacity: must be a number in [0, 1]":
@@ -38,6 +45,7 @@ enum class LayerBase { kNone, kMesh, kColor };
 enum class LayerMode { kOver, kMultiply, kAdd, kReplace };
 enum class LayerVisibility { kFirst, kAll };
 enum class LayerOutside { kTransparent, kClamp, kColor };
+enum class LayerFilter { kBilinear, kArea, kEwa };
 
 struct LayerSpec {
   std::optional<Projector> projector;  // "proxy" or "proxy_file"
@@ -52,12 +60,16 @@ struct LayerSpec {
   LayerVisibility visibility = LayerVisibility::kFirst;
   LayerOutside outside = LayerOutside::kTransparent;
   Rgba outside_color{0, 0, 0, 0};  // sRGB-encoded RGB, straight alpha (kColor)
+  LayerFilter filter = LayerFilter::kBilinear;
+  int samples = 16;                  // kArea's lookups per vertex
+  WrapMode wrap = WrapMode::kClamp;  // a plane proxy's "wrap"
 };
 
 struct LayersSpec {
   LayerBase base = LayerBase::kNone;
   Rgba base_color{0, 0, 0, 0};  // sRGB-encoded RGB, straight alpha (kColor)
   std::vector<LayerSpec> layers;
+  std::string source;  // the file (or layers_from_json's source), for messages
 };
 
 const char* to_string(LayerMode mode);

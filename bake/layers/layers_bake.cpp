@@ -2,17 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <optional>
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/bake_atlas.h"
 #include "bake/photo/segments.h"
+#include "bake/shade/footprint.h"
+#include "bake/shade/shade.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
 #include "bake/vertex/occlusion_fill.h"
+#include "bake/vertex/vertex_share.h"
+#include "mapping/derivatives.h"
 #include "mapping/sample.h"
 #include "mapping/tiled_image.h"
 #include "mesh_io/vertex_normals.h"
@@ -50,16 +55,106 @@ struct LayerCounts {
   double seconds = 0;  // thread time in the layer (the atlas target)
 };
 
-// The prepared layer: working images and wrap rules.
+// True when the layer's lookups are in linear light: a linear layer, or a
+// stored-encoding layer whose image is linear (stored as linear values, as
+// the single-proxy bake samples an EXR).
+bool works_linear(const LayerInput& l) {
+  return l.linear || (!l.photos && l.texture.color_space == ColorSpace::kLinear);
+}
+
+// The working space of a stack: linear light unless every layer's lookups
+// are in the sRGB encoding (LayerInput::linear).
+bool stack_linear(const std::vector<LayerInput>& layers) {
+  return std::any_of(layers.begin(), layers.end(), works_linear);
+}
+
+// An sRGB-encoded colour in the stack's working space, and back.
+Rgba to_work(const Rgba& c, bool linear) {
+  return linear ? srgb_to_linear(c) : c;
+}
+Rgba from_work(const Rgba& c, bool linear) {
+  return linear ? linear_to_srgb(c) : c;
+}
+
+// The prepared layer: working image, its lookup (the shading rule's:
+// wraps, MIP pyramid) and constants.
 struct Prepared {
   const LayerInput* input = nullptr;
-  std::vector<float> texture;  // premultiplied linear RGBA
-  ImageView view;
-  WrapMode wrap_u = WrapMode::kClamp, wrap_v = WrapMode::kClamp;
+  std::vector<float> texture;       // premultiplied linear RGBA (a linear layer in memory)
+  ImageView view;                   // the working image
+  ShadeRule rule;                   // image = view; wraps, has_outside, mip
+  std::unique_ptr<MipPyramid> mip;  // kEwa
+  bool linearise = false;           // an sRGB-encoded stored-encoding layer in a linear stack
   const CameraProjector* camera = nullptr;    // null: an analytic proxy
   double cos_a0 = 1, cos_a1 = 0;              // the angle fade's limits as cosines
-  std::array<float, 3> outside_rgb{0, 0, 0};  // linear
+  std::array<float, 3> outside_rgb{0, 0, 0};  // the stack's working space
+  Rgba outside_sample{0, 0, 0, 0};            // the outside colour as a lookup (area filter)
 };
+
+// Where the points come from, for the area and EWA filters: the vertex
+// target's vertices (point i is vertex i), or the atlas's supersamples.
+struct PointFrame {
+  const MeshData* mesh = nullptr;
+  const Adjacency* adjacency = nullptr;  // the vertex target (area, EWA)
+  const uint32_t* triangles = nullptr;   // the atlas target: each point's triangle
+  double cell = 0;                       // the atlas target under EWA (ewa_cell)
+};
+
+// The straight colour (the stack's working space) of a lookup in the
+// layer's working space.
+std::array<float, 3> straight_rgb(const Prepared& layer, const Rgba& s) {
+  if (!layer.input->linear) {
+    if (!layer.linearise) return {s[0], s[1], s[2]};
+    const Rgba l = srgb_to_linear(s);
+    return {l[0], l[1], l[2]};
+  }
+  if (!(s[3] > 0)) return {0, 0, 0};
+  return {s[0] / s[3], s[1] / s[3], s[2] / s[3]};
+}
+
+// The layer's filtered lookup for point `point` at q (mapped to r, not
+// kUndefined): nullopt when the area filter found no mapped sample.
+template <class Map, class Jacobian>
+std::optional<Rgba> filtered(const Prepared& layer, const Map& map, const Jacobian& jacobian,
+                             const PointFrame& frame, std::size_t point, const Vec3& q,
+                             const MapResult& r, VertexShare& share) {
+  const LayerInput& in = *layer.input;
+  if (in.filter == VertexFilter::kEwa) {
+    Vec3 t1, t2;
+    if (frame.adjacency) {
+      vertex_share(*frame.mesh, *frame.adjacency, static_cast<uint32_t>(point), share);
+      isotropic_tangents(share.normal, share.total / 3, t1, t2);
+    } else if (frame.triangles && frame.cell > 0) {
+      cell_tangents(*frame.mesh, frame.triangles[point], frame.cell, t1, t2);
+    }
+    return layer.rule.lookup(r.uv, uv_footprint(jacobian(q), t1, t2));
+  }
+  if (in.filter == VertexFilter::kArea && frame.adjacency) {
+    vertex_share(*frame.mesh, *frame.adjacency, static_cast<uint32_t>(point), share);
+    if (share.total > 0) {
+      // The single-proxy bake's mean (bake/vertex/bake_vertex.cpp): double
+      // sums, one division.
+      double sum[4] = {0, 0, 0, 0};
+      int count = 0;
+      for_share_points(
+          *frame.mesh, *frame.adjacency, static_cast<uint32_t>(point), share, in.samples,
+          [&](const Vec3& p) {
+            const MapResult m = map(p);
+            if (m.status == MapStatus::kUndefined) return;
+            const bool outside = m.status == MapStatus::kOutside && layer.rule.has_outside &&
+                                 in.outside != LayerOutside::kClamp;
+            const Rgba c = outside ? layer.outside_sample : layer.rule.lookup(m.uv, {});
+            for (int k = 0; k < 4; ++k) sum[k] += c[k];
+            ++count;
+          });
+      if (count == 0) return std::nullopt;
+      const double inv = 1.0 / count;
+      return Rgba{static_cast<float>(sum[0] * inv), static_cast<float>(sum[1] * inv),
+                  static_cast<float>(sum[2] * inv), static_cast<float>(sum[3] * inv)};
+    }
+  }
+  return layer.rule.lookup(r.uv, {});
+}
 
 float fade(const Prepared& layer, double cosine) {
   if (!layer.input->angle_fade) return 1;
@@ -72,11 +167,13 @@ float fade(const Prepared& layer, double cosine) {
 
 // Contributions of one layer for the points [begin, end): positions and
 // normals (any length; a zero normal gives the angle fade cos 1).
-template <class Map>
-void layer_block(const Prepared& layer, const Map& map, const Vec3* points, const Vec3* normals,
+template <class Map, class Jacobian>
+void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian,
+                 const PointFrame& frame, const Vec3* points, const Vec3* normals,
                  const EmbreeScene* scene, double offset, std::size_t begin, std::size_t end,
                  Contribution* out, LayerCounts& counts) {
   const LayerInput& in = *layer.input;
+  VertexShare share;
   const std::size_t m = end - begin;
   std::vector<MapResult> maps(m);
   std::vector<uint8_t> seen(m, 1);
@@ -133,16 +230,19 @@ void layer_block(const Prepared& layer, const Map& map, const Vec3* points, cons
     const double nlen = std::sqrt(nf.x * nf.x + nf.y * nf.y + nf.z * nf.z);
     const double cosine = nlen > 0 ? dot(nf, r.to_projector) / nlen : 1;
     float image_alpha = 1, mask = 1;
-    if (r.status == MapStatus::kOutside && in.outside != LayerOutside::kClamp) {
+    if (r.status == MapStatus::kOutside && layer.rule.has_outside &&
+        in.outside != LayerOutside::kClamp) {
       if (in.outside == LayerOutside::kTransparent) continue;
       c.rgb = layer.outside_rgb;
       image_alpha = in.outside_color[3];
     } else {
-      const Rgba s = sample_bilinear(layer.view, r.uv, layer.wrap_u, layer.wrap_v);
-      image_alpha = s[3];
-      if (s[3] > 0) c.rgb = {s[0] / s[3], s[1] / s[3], s[2] / s[3]};
+      const std::optional<Rgba> s =
+          filtered(layer, map, jacobian, frame, begin + i, points[begin + i], r, share);
+      if (!s) continue;  // the area filter: no sample has a mapping
+      image_alpha = (*s)[3];
+      c.rgb = straight_rgb(layer, *s);
       if (in.mask.has_texels()) {
-        const Rgba k = sample_bilinear(in.mask, r.uv, layer.wrap_u, layer.wrap_v);
+        const Rgba k = sample_bilinear(in.mask, r.uv, layer.rule.wrap_u, layer.rule.wrap_v);
         mask = in.mask_has_alpha ? k[3] : k[0];
       }
     }
@@ -176,32 +276,54 @@ void photo_block(const Prepared& layer, const uint32_t* ids, std::size_t begin, 
 // layer_block through the layer's projector (a camera or any analytic
 // proxy), or photo_block for a "cameras" layer (sample_ids: the atlas
 // samples' indices in its PhotoLayerPoints::samples; null for vertices).
-void contributions(const Prepared& layer, const Vec3* points, const Vec3* normals,
-                   const EmbreeScene* scene, double offset, std::size_t begin, std::size_t end,
-                   Contribution* out, LayerCounts& counts, const uint32_t* sample_ids = nullptr) {
+void contributions(const Prepared& layer, const PointFrame& frame, const Vec3* points,
+                   const Vec3* normals, const EmbreeScene* scene, double offset, std::size_t begin,
+                   std::size_t end, Contribution* out, LayerCounts& counts,
+                   const uint32_t* sample_ids = nullptr) {
   if (layer.input->photos) {
     photo_block(layer, sample_ids, begin, end, out, counts);
   } else if (layer.camera) {
     const CameraProjector& cam = *layer.camera;
+    // No EWA through a camera (prepare refuses it): no Jacobian needed.
     layer_block(
-        layer, [&](Vec3 p) { return cam.inverse_map(p); }, points, normals, scene, offset, begin,
-        end, out, counts);
+        layer, [&](Vec3 p) { return cam.inverse_map(p); }, [](Vec3) { return UvJacobian{}; }, frame,
+        points, normals, scene, offset, begin, end, out, counts);
   } else {
     std::visit(
         [&](const auto& proxy) {
           layer_block(
-              layer, [&](Vec3 p) { return proxy.inverse_map(p); }, points, normals, scene, offset,
-              begin, end, out, counts);
+              layer, [&](Vec3 p) { return proxy.inverse_map(p); },
+              [&](Vec3 p) { return inverse_map_jacobian(proxy, p); }, frame, points, normals, scene,
+              offset, begin, end, out, counts);
         },
         std::get<Proxy>(layer.input->projector));
   }
 }
 
-// One layer's image and rules, ready for layer_block.
-Expected<Prepared> prepare(const LayerInput& in, std::size_t vertex_count,
-                           std::size_t sample_count = 0) {
-  Prepared layer;
+// One layer's image and rules, ready for layer_block, in a stack whose
+// working space is linear light (`linear`) or the stored encoding. Held by
+// pointer (its rule points at its own pyramid).
+Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
+                                            std::size_t vertex_count,
+                                            std::size_t sample_count = 0) {
+  auto prepared = std::make_unique<Prepared>();
+  Prepared& layer = *prepared;
   layer.input = &in;
+  if (in.filter != VertexFilter::kBilinear && in.photos) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      in.name +
+                          ": a cameras layer takes the photo bake's bilinear lookup (filter "
+                          "\"bilinear\")");
+  }
+  if (in.filter == VertexFilter::kEwa && std::holds_alternative<CameraProjector>(in.projector) &&
+      !in.photos) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      in.name + ": EWA needs an analytic proxy's Jacobian, a camera has none");
+  }
+  if (in.filter == VertexFilter::kArea && in.samples < 1) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      in.name + ": the area filter needs samples >= 1");
+  }
   if (in.angle_fade) {
     layer.cos_a0 = std::cos((*in.angle_fade)[0] * std::numbers::pi / 180);
     layer.cos_a1 = std::cos((*in.angle_fade)[1] * std::numbers::pi / 180);
@@ -216,12 +338,15 @@ Expected<Prepared> prepare(const LayerInput& in, std::size_t vertex_count,
       return make_error(ErrorCode::kInvalidArgument,
                         in.name + ": the cameras layer's photo blend does not match the points");
     }
-    return layer;
+    return prepared;
   }
   if (in.texture.width < 1 || in.texture.height < 1 || !in.texture.has_texels()) {
     return make_error(ErrorCode::kInvalidArgument, in.name + ": the layer's image is empty");
   }
-  if (in.texture.data) {
+  if (!in.linear) {
+    layer.view = in.texture;  // as stored, straight alpha
+    layer.linearise = linear && !works_linear(in);
+  } else if (in.texture.data) {
     layer.texture = premultiplied_linear(in.texture);
     layer.view = {in.texture.width, in.texture.height, layer.texture.data(), ColorSpace::kLinear};
   } else {  // read through the cache (--cache-mb): transformed as tiles load
@@ -230,14 +355,29 @@ Expected<Prepared> prepare(const LayerInput& in, std::size_t vertex_count,
     layer.view.premultiply = true;
     layer.view.color_space = ColorSpace::kLinear;
   }
-  layer.camera = std::get_if<CameraProjector>(&in.projector);
-  if (const Proxy* proxy = std::get_if<Proxy>(&in.projector)) {
-    layer.wrap_u = wrap_u(*proxy);
-    layer.wrap_v = wrap_v(*proxy);
+  if (in.linear) {
+    // The file's MIP levels average stored values, not premultiplied linear light.
+    layer.view.mip_levels = nullptr;
+    layer.view.mip_level_count = 0;
   }
-  const Rgba oc = srgb_to_linear(in.outside_color);
+  layer.camera = std::get_if<CameraProjector>(&in.projector);
+  VertexBakeOptions shading;
+  shading.plane_wrap = in.plane_wrap;
+  layer.rule = layer.camera ? make_camera_shade_rule(layer.view, shading)
+                            : make_shade_rule(layer.view, std::get<Proxy>(in.projector), shading);
+  if (in.filter == VertexFilter::kEwa) {
+    layer.mip = std::make_unique<MipPyramid>(layer.view, pyramid_rows);
+    layer.rule.mip = layer.mip.get();
+    layer.rule.max_anisotropy = in.max_anisotropy;
+  }
+  const Rgba oc = to_work(in.outside_color, linear);
   layer.outside_rgb = {oc[0], oc[1], oc[2]};
-  return layer;
+  if (in.outside == LayerOutside::kColor) {
+    // As a lookup: the rule's working encoding, premultiplied for a linear layer.
+    const Rgba c = layer.rule.working(in.outside_color);
+    layer.outside_sample = in.linear ? Rgba{c[0] * c[3], c[1] * c[3], c[2] * c[3], c[3]} : c;
+  }
+  return prepared;
 }
 
 // Composites one contribution onto the straight colour and coverage b, in
@@ -295,16 +435,28 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   const std::vector<Float3> normals = smooth_vertex_normals(mesh);
   result.seconds_scene = seconds_since(start);
 
-  // The base: straight linear colour and coverage.
+  // The base: straight colour (the stack's working space) and coverage.
   start = Clock::now();
+  const bool linear = stack_linear(layers);
   std::vector<Rgba> colour(n, Rgba{0, 0, 0, 0});
   if (options.base == LayerBase::kColor) {
-    std::fill(colour.begin(), colour.end(), srgb_to_linear(options.base_color));
+    std::fill(colour.begin(), colour.end(), to_work(options.base_color, linear));
   } else if (options.base == LayerBase::kMesh) {
     for (std::size_t v = 0; v < n; ++v) {
       const auto& c = mesh.vertex_colors[v];
-      colour[v] = srgb_to_linear(Rgba{c[0], c[1], c[2], c[3]});
+      colour[v] = to_work(Rgba{c[0], c[1], c[2], c[3]}, linear);
     }
+  }
+  // The area and EWA filters' vertex shares.
+  const bool shares = std::any_of(layers.begin(), layers.end(), [](const LayerInput& l) {
+    return !l.photos && l.filter != VertexFilter::kBilinear;
+  });
+  Adjacency adjacency;
+  PointFrame frame;
+  frame.mesh = &mesh;
+  if (shares) {
+    adjacency = build_adjacency(mesh);
+    frame.adjacency = &adjacency;
   }
 
   std::vector<Vec3> points(n), point_normals(n);
@@ -315,13 +467,13 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   std::vector<Contribution> contribution(n);
   for (const LayerInput& in : layers) {
     const auto layer_start = Clock::now();
-    Expected<Prepared> prepared = prepare(in, n);
+    Expected<std::unique_ptr<Prepared>> prepared = prepare(in, linear, n);
     if (!prepared) return prepared.error();
-    const Prepared& layer = *prepared;
+    const Prepared& layer = **prepared;
     std::vector<LayerCounts> block_counts(block_count(n, kGrain));
     parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
-      contributions(layer, points.data(), point_normals.data(), scene ? &*scene : nullptr, offset,
-                    begin, end, contribution.data(), block_counts[block]);
+      contributions(layer, frame, points.data(), point_normals.data(), scene ? &*scene : nullptr,
+                    offset, begin, end, contribution.data(), block_counts[block]);
     });
     LayerStats stats;
     stats.name = in.name;
@@ -369,7 +521,7 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   } else if (result.uncovered == n) {
     for (std::size_t v = 0; v < n; ++v) constant.push_back(static_cast<uint32_t>(v));
   }
-  for (Rgba& c : colour) c = linear_to_srgb(c);
+  for (Rgba& c : colour) c = from_work(c, linear);
   for (uint32_t v : constant) {
     const Rgba& k =
         options.occluded == OccludedMode::kColor ? options.occluded_color : Rgba{0, 0, 0, 0};
@@ -437,11 +589,12 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   LayersAtlasResult result;
 
   // Layers ready (all at once: every band goes through every layer).
-  std::vector<Prepared> prepared;
+  const bool linear = stack_linear(layers);
+  std::vector<std::unique_ptr<Prepared>> prepared;
   prepared.reserve(layers.size());
   const std::size_t atlas_texels = static_cast<std::size_t>(options.size) * options.size;
   for (const LayerInput& in : layers) {
-    Expected<Prepared> p = prepare(in, uv_mesh.positions.size());
+    Expected<std::unique_ptr<Prepared>> p = prepare(in, linear, uv_mesh.positions.size());
     if (!p) return p.error();
     if (in.photos && (in.photos->texel_first.size() != atlas_texels ||
                       in.photos->samples.size() % static_cast<std::size_t>(options.samples))) {
@@ -459,11 +612,14 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   if (fill) {
     LayersBakeOptions vo = lo;
     if (base_texture) vo.base = LayerBase::kNone;
-    Expected<LayersBakeResult> vertex = bake_vertex_layers(uv_mesh, layers, vo);
+    // The fill's per-vertex colours take the bilinear lookup, as the proxy atlas's.
+    std::vector<LayerInput> bilinear = layers;
+    for (LayerInput& l : bilinear) l.filter = VertexFilter::kBilinear;
+    Expected<LayersBakeResult> vertex = bake_vertex_layers(uv_mesh, bilinear, vo);
     if (!vertex) return vertex.error();
     for (std::size_t l = 0; l < layers.size(); ++l) fill_seconds[l] = vertex->layers[l].seconds;
     fill_colors = std::move(vertex->colors);
-    for (Rgba& c : fill_colors) c = srgb_to_linear(c);
+    for (Rgba& c : fill_colors) c = to_work(c, linear);
   }
   result.seconds_fill = seconds_since(start);
 
@@ -482,11 +638,16 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   const std::vector<Float3> normals = smooth_vertex_normals(uv_mesh);
   std::vector<float> base_premultiplied;
   ImageView base_view;
-  if (base_texture) {
+  if (base_texture && linear) {
     base_premultiplied = premultiplied_linear(options.base_texture);
     base_view = {options.base_texture.width, options.base_texture.height, base_premultiplied.data(),
                  ColorSpace::kLinear};
+  } else if (base_texture) {
+    base_view = options.base_texture;  // as stored, straight alpha
   }
+  PointFrame frame;
+  frame.mesh = &uv_mesh;
+  frame.cell = ewa_cell(options.size, options.samples);
   result.seconds_scene = seconds_since(start);
 
   start = Clock::now();
@@ -497,7 +658,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   result.atlas.color_space = ColorSpace::kSrgb;
   result.atlas.has_alpha = true;
   result.baked.assign(static_cast<std::size_t>(n) * n, 0);
-  const Rgba base_linear = srgb_to_linear(lo.base_color);
+  const Rgba base_working = to_work(lo.base_color, linear);
   const std::size_t band_count = bands.band_count();
   // Per band and layer, so that the sums are taken in band order.
   std::vector<LayerCounts> counts(band_count * layers.size());
@@ -529,12 +690,12 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
         // Opposite vertex normals can cancel: the face's direction then.
         w.normals[s] = len > 1e-12 ? nn / len : (face_len > 0 ? face / face_len : Vec3{0, 0, 0});
         if (lo.base == LayerBase::kColor) {
-          w.colour[s] = base_linear;
+          w.colour[s] = base_working;
         } else if (base_vertex) {
           Rgba v{0, 0, 0, 0};
           for (int k = 0; k < 3; ++k) {
             const auto& vc = uv_mesh.vertex_colors[tri[k]];
-            const Rgba lin = srgb_to_linear(Rgba{vc[0], vc[1], vc[2], vc[3]});
+            const Rgba lin = to_work(Rgba{vc[0], vc[1], vc[2], vc[3]}, linear);
             const double bk = k == 0 ? b0 : k == 1 ? b1 : b2;
             for (int ch = 0; ch < 4; ++ch) v[ch] += static_cast<float>(bk * lin[ch]);
           }
@@ -548,10 +709,12 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
           const double x = static_cast<double>(t % n), y = static_cast<double>(t / n);
           const UV uv{(x + 0.5) / n, 1 - (y + 0.5) / n};
           Rgba s = sample_bilinear(base_view, uv, WrapMode::kClamp, WrapMode::kClamp);
-          if (s[3] > 0) {
+          if (linear && s[3] > 0) {  // premultiplied: straight (else stored straight)
             for (int ch = 0; ch < 3; ++ch) s[ch] /= s[3];
-          } else {
+          } else if (linear) {
             s = {0, 0, 0, 0};
+          } else if (base_view.color_space == ColorSpace::kLinear) {
+            s = linear_to_srgb(s);  // a linear texture in an sRGB-encoded stack
           }
           for (std::size_t j = k * spt; j < (k + 1) * spt; ++j) w.colour[j] = s;
         }
@@ -563,8 +726,10 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
           band_mismatch[band] = 1;
           return;
         }
-        contributions(prepared[l], w.points.data(), w.normals.data(), scene ? &*scene : nullptr,
-                      offset, 0, m, w.contribution.data(), c,
+        PointFrame band_frame = frame;
+        band_frame.triangles = r.sample_triangle.data();
+        contributions(*prepared[l], band_frame, w.points.data(), w.normals.data(),
+                      scene ? &*scene : nullptr, offset, 0, m, w.contribution.data(), c,
                       layers[l].photos ? w.ids.data() : nullptr);
         const LayerMode mode = layers[l].mode;
         for (std::size_t s = 0; s < m; ++s) composite(mode, w.contribution[s], w.colour[s]);
@@ -599,12 +764,12 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
         if (alpha > 0) {
           for (int ch = 0; ch < 3; ++ch) out[ch] = static_cast<float>(premultiplied[ch] / alpha);
           out[3] = static_cast<float>(std::min(1.0, alpha / static_cast<double>(spt)));
-          out = linear_to_srgb(out);
+          out = from_work(out, linear);
         } else if (fill) {
           for (int ch = 0; ch < 3; ++ch) {
             out[ch] = static_cast<float>(filled[ch] / static_cast<double>(empty));
           }
-          out = linear_to_srgb(out);
+          out = from_work(out, linear);
         } else {
           out = {lo.occluded_color[0], lo.occluded_color[1], lo.occluded_color[2], 0};
         }

@@ -5,10 +5,12 @@
 // and layer, with d = d(P) the direction towards
 // the layer's projector and n the smooth vertex normal:
 //   a = opacity x image alpha x mask x angle fade x seen
-//  - the image is sampled bilinearly at the projector's (u, v) with its wrap
-//    rules (mapping/sample.h) as premultiplied linear RGBA, so a label's
-//    transparent border does not bleed dark fringes into its colour; the
-//    layer colour L is the straight colour of that sample;
+//  - the image is looked up at the projector's (u, v) with its wrap rules
+//    (mapping/sample.h) and the layer's filter (LayerInput::filter:
+//    bilinear by default, area or EWA as the single-proxy bake) in the
+//    layer's working space: by default premultiplied linear RGBA, so a
+//    label's transparent border does not bleed dark fringes into its
+//    colour; the layer colour L is the straight colour of that lookup;
 //  - mask: a second image through the same (u, v): its alpha when it has
 //    an alpha channel, else its first channel (a grey image), as stored;
 //  - angle fade [a0, a1]: 1 up to a0 degrees between n and d, 0 from a1,
@@ -46,6 +48,7 @@
 #include "bake/util/progress.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
+#include "mapping/mipmap.h"
 #include "mapping/projector.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/layers_json.h"
@@ -88,6 +91,34 @@ struct LayerInput {
   LayerVisibility visibility = LayerVisibility::kFirst;
   LayerOutside outside = LayerOutside::kTransparent;
   Rgba outside_color{0, 0, 0, 0};  // sRGB-encoded, straight alpha
+  // The lookup of the image (and only of the image: the mask is bilinear),
+  // the single-proxy bake's (bake/shade/shade.h, SPEC sections 4 and 13):
+  //  - kBilinear: the bilinear lookup at the point's (u, v);
+  //  - kArea (the vertex target): the mean of `samples` bilinear lookups over
+  //    the vertex's share of its triangles (bake/vertex/vertex_share.h; its
+  //    undefined samples left out, its outside ones following `outside`,
+  //    transparent ones adding 0), visibility decided at the vertex; on the
+  //    atlas target the bilinear lookup per supersample, as the proxy atlas;
+  //  - kEwa (an analytic proxy only: kInvalidArgument for a camera): the EWA
+  //    lookup over the working image's MIP pyramid with the footprint of the
+  //    proxy bake: the vertex's share (bake/shade/footprint.h), or the atlas
+  //    supersample's cell (bake/atlas/bake_atlas.h cell_tangents).
+  // A "cameras" layer is the photo bake's own lookup: kBilinear only.
+  VertexFilter filter = VertexFilter::kBilinear;
+  int samples = 16;  // kArea: lookups per vertex (>= 1)
+  double max_anisotropy = kDefaultMaxAnisotropy;
+  // The plane proxy's wrap (SPEC section 2 --wrap): kRepeat tiles the image
+  // in u and v (nothing is outside); ignored by the other projectors.
+  WrapMode plane_wrap = WrapMode::kClamp;
+  // The layer's working space (SPEC section 1): true, linear light with
+  // premultiplied alpha (layers and photos); false, the stored encoding with
+  // straight alpha (the single-proxy bake without --linear: its lookups,
+  // area means and EWA run on the image's stored values, linear light for a
+  // linear image). A stack none of whose layers looks up in linear light
+  // composites, averages texels and fills in the sRGB encoding too (so a
+  // one-layer stack is the single-proxy bake); otherwise an sRGB-encoded
+  // layer's colour is linearised before it composites.
+  bool linear = true;
 };
 
 struct LayersBakeOptions {

@@ -2,9 +2,10 @@
 // (u, v) becomes a colour, for a single proxy and image: the proxy vertex
 // bake, the proxy atlas bake and the render's ground truth (ProjectionSource)
 // call it, so a render shows exactly what such a bake computes. The layers
-// bake (bake/layers) and the photo bakes (bake/photo) still sample with
-// lookups of their own (bilinear, in linear light; no EWA, no plane wrap):
-// they are not yet this rule.
+// bake (bake/layers) looks its proxy and camera layers' images up through
+// this rule's lookup (filters, wraps) in each layer's working space; the
+// photo bakes (bake/photo) still sample bilinearly in linear light with a
+// lookup of their own.
 //
 // The rule, for one MapResult m:
 //  - m.status == kUndefined (no mapping): no colour.

@@ -21,9 +21,31 @@ Expected<LayersSpec> read_layers(const std::filesystem::path& layers_file) {
 
 namespace {
 
-Status check_layer_specs(const LayersSpec& spec) {
+// `atlas`: the atlas target, which has no vertex share to spread the area
+// filter over (as bake --filter area, refused there too).
+Status check_layer_specs(const LayersSpec& spec, bool atlas) {
   if (spec.layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
+  for (std::size_t i = 0; i < spec.layers.size(); ++i) {
+    if (atlas && spec.layers[i].filter == LayerFilter::kArea) {
+      return make_error(ErrorCode::kInvalidArgument,
+                        spec.source + ": layers[" + std::to_string(i) +
+                            "].filter: \"area\" applies to the vertex target only (the atlas "
+                            "takes \"bilinear\" or \"ewa\" per supersample)");
+    }
+  }
   return ok_status();
+}
+
+VertexFilter layer_filter(LayerFilter f) {
+  switch (f) {
+    case LayerFilter::kArea:
+      return VertexFilter::kArea;
+    case LayerFilter::kEwa:
+      return VertexFilter::kEwa;
+    case LayerFilter::kBilinear:
+      break;
+  }
+  return VertexFilter::kBilinear;
 }
 
 // The layers file's base (spec.base, base_color) over the options'.
@@ -116,6 +138,9 @@ Expected<std::vector<LayerInput>> read_layer_inputs(const LayersSpec& spec, Prog
     in.visibility = l.visibility;
     in.outside = l.outside;
     in.outside_color = l.outside_color;
+    in.filter = layer_filter(l.filter);
+    in.samples = l.samples;
+    in.plane_wrap = l.wrap;
     if (!l.cameras.empty()) {  // its photos are baked later (bake_layer_photos)
       in.name = cameras_name(l.cameras);
       inputs.push_back(std::move(in));
@@ -161,7 +186,7 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
   const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
   if (Status s = validate_options(options); !s) return s.error();
-  if (Status s = check_layer_specs(spec); !s) return s.error();
+  if (Status s = check_layer_specs(spec, false); !s) return s.error();
   if (Status s = check_triangles(mesh); !s) return s.error();
   Progress progress(run.progress);
   return detail::run_call<LayerColors>(run, [&]() -> Expected<LayerColors> {
@@ -223,7 +248,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
   const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
   if (Status s = validate_options(options); !s) return s.error();
-  if (Status s = check_layer_specs(spec); !s) return s.error();
+  if (Status s = check_layer_specs(spec, true); !s) return s.error();
   if (atlas.uv == UvLayout::kProxy) {
     return make_error(ErrorCode::kInvalidArgument,
                       "--uv proxy needs a proxy, and a layers bake has none (use --uv generate "

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"
@@ -73,6 +74,76 @@ TEST_F(LayersCli, OneLayerOverNoneIsTheSingleProjectionInLinearLight) {
   const std::string report = testing_cli::slurp(dir_ / "r.json");
   EXPECT_NE(report.find("\"visible\": " + std::to_string(covered)), std::string::npos) << report;
   EXPECT_NE(report.find("\"blended\": " + std::to_string(covered)), std::string::npos) << report;
+}
+
+TEST_F(LayersCli, ALayersFilterIsTheSingleProjectionsFilter) {
+  // "filter": "area" and "ewa" through a layer are bake --filter area / ewa
+  // --linear through the proxy: the same colours, byte for byte, wherever
+  // the sphere sees the vertex (the occluded ones: the coverage differs).
+  const std::string bunny = q(kData + "/bunny00.off");
+  for (const std::string filter : {"area", "ewa"}) {
+    write("L.json", std::string(R"({"layers":[{"proxy":)") + kEarthSphere + R"(,"texture":")" +
+                        kData + R"(/earth.jpg","filter":")" + filter + R"("}]})");
+    testing_cli::RunResult r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "L.json") +
+                                           " --occluded 1,0,1 -q -o " + q(dir_ / "layers.ply"));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto direct_bake = [&](const std::string& with, const std::string& out) {
+      return run_texbake("bake " + bunny + " --texture " + q(kData + "/earth.jpg") +
+                         " --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator "
+                         "0,0,1 --filter " +
+                         with + " --linear --occluded 1,0,1 -q -o " + q(dir_ / out));
+    };
+    ASSERT_EQ(direct_bake(filter, "direct.ply").exit_code, 0);
+    ASSERT_EQ(direct_bake("bilinear", "bilinear.ply").exit_code, 0);
+    const auto layers = colours(dir_ / "layers.ply"), direct = colours(dir_ / "direct.ply"),
+               bilinear = colours(dir_ / "bilinear.ply");
+    ASSERT_EQ(layers.size(), direct.size());
+    std::size_t covered = 0, filtered = 0;
+    for (std::size_t v = 0; v < layers.size(); ++v) {
+      if (direct[v][0] == 255 && direct[v][1] == 0 && direct[v][2] == 255) continue;
+      ++covered;
+      for (int c = 0; c < 3; ++c) ASSERT_EQ(layers[v][c], direct[v][c]) << filter << " " << v;
+      filtered += layers[v] != bilinear[v];
+    }
+    EXPECT_GT(covered, 30000u) << filter;
+    EXPECT_GT(filtered, 100u) << filter << ": the filter is not the bilinear lookup";
+  }
+}
+
+TEST_F(LayersCli, AFilterOrWrapThatDoesNotApplyIsRefused) {
+  const std::string bunny = q(kData + "/bunny00.off");
+  const std::string earth = std::string(R"(,"texture":")") + kData + R"(/earth.jpg")";
+  const char* camera =
+      R"({"kind":"camera","model":"PINHOLE","width":64,"height":64,"params":[64,64,32,32],)"
+      R"("pose":{"eye":[0,0,3],"target":[0,0,0],"up":[0,1,0]}})";
+  struct Case {
+    std::string layer, flags, message;
+    int exit_code;
+  };
+  const std::vector<Case> cases = {
+      {std::string(R"({"proxy":)") + camera + earth + R"(,"filter":"ewa"})", "",
+       "layers[0].filter: \"ewa\" needs an analytic proxy", 1},
+      {R"({"cameras":"sparse/0","filter":"area"})", "",
+       "layers[0].filter: a cameras layer takes the photo bake's bilinear lookup", 1},
+      {std::string(R"({"proxy":)") + kEarthSphere + earth + R"(,"wrap":"repeat"})", "",
+       "layers[0].wrap: applies to a plane proxy only", 1},
+      {std::string(R"({"proxy":)") + kEarthSphere + earth + R"(,"samples":4})", "",
+       "layers[0].samples: applies to \"filter\": \"area\" only", 1},
+      {std::string(R"({"proxy":)") + kEarthSphere + earth + R"(,"filter":"box"})", "",
+       "layers[0].filter: must be one of \"bilinear\", \"area\", \"ewa\"", 1},
+      {std::string(R"({"proxy":)") + kEarthSphere + earth + R"(,"filter":"area"})", " --size 64",
+       "layers[0].filter: \"area\" applies to the vertex target only", 2},
+  };
+  for (const Case& c : cases) {
+    write("F.json", R"({"layers":[)" + c.layer + "]}");
+    const fs::path out = dir_ / (c.flags.empty() ? "o.ply" : "o.obj");
+    const testing_cli::RunResult r = run_texbake("bake " + bunny + " --layers " +
+                                                 q(dir_ / "F.json") + c.flags + " -o " + q(out));
+    EXPECT_EQ(r.exit_code, c.exit_code) << c.layer << "\n" << r.err;
+    EXPECT_NE(r.err.find("texbake: error: "), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("F.json: " + c.message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.layer;
+  }
 }
 
 TEST_F(LayersCli, ADecalOverTheMeshColoursLeavesThemElsewhere) {
@@ -175,6 +246,72 @@ TEST_F(LayersCli, ACamerasLayerIsThePhotoBakeWherePhotosSeeTheSurface) {
   }
   EXPECT_GT(opaque, 10000u);
   EXPECT_GT(transparent, 1000u);
+}
+
+// The camera of a one-view COLMAP text model as a camera file (SPEC section
+// 9): cameras.txt's model, size and parameters, images.txt's pose.
+std::string camera_json_of(const fs::path& model) {
+  auto first_data_line = [](const fs::path& file) {
+    std::ifstream in(file);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (!line.empty() && line[0] != '#') return line;
+    }
+    return std::string();
+  };
+  std::istringstream cam(first_data_line(model / "cameras.txt"));
+  std::istringstream img(first_data_line(model / "images.txt"));
+  std::string id, kind, value;
+  int width = 0, height = 0;
+  cam >> id >> kind >> width >> height;
+  std::string params, q_wxyz, t;
+  for (int k = 0; cam >> value; ++k) params += (k ? "," : "") + value;
+  img >> id;
+  for (int k = 0; k < 4 && img >> value; ++k) q_wxyz += (k ? "," : "") + value;
+  for (int k = 0; k < 3 && img >> value; ++k) t += (k ? "," : "") + value;
+  return R"({"kind":"camera","model":")" + kind + R"(","width":)" + std::to_string(width) +
+         R"(,"height":)" + std::to_string(height) + R"(,"params":[)" + params +
+         R"(],"pose":{"q_wxyz":[)" + q_wxyz + "],\"t\":[" + t + "]}}";
+}
+
+TEST_F(LayersCli, ACameraProxyFileIsAOnePhotoCamerasLayer) {
+  // One rendered view: bake --proxy-file camera.json --texture photo (the
+  // one-photo bake up to 90 degrees) and the layer {"cameras": model} (the
+  // photo bake's blend, cut at 75 degrees) agree wherever both see the
+  // vertex.
+  const std::string bunny = q(kData + "/bunny00.off");
+  testing_cli::RunResult r = run_texbake(
+      "render " + bunny + " --texture " + q(kData + "/earth.jpg") +
+      " --proxy sphere --center 0,0,0 --radius 1 --pole 0,1,0 --equator 0,0,1 --unlit --views 1 "
+      "--size 320x240 --colmap " +
+      q(dir_ / "ws"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  write("camera.json", camera_json_of(dir_ / "ws/sparse/0"));
+  std::vector<fs::path> photos;
+  for (const auto& e : fs::directory_iterator(dir_ / "ws/images")) photos.push_back(e.path());
+  ASSERT_EQ(photos.size(), 1u);
+  write("L.json", R"({"layers":[{"cameras":"ws/sparse/0"}]})");
+  r = run_texbake("bake " + bunny + " --layers " + q(dir_ / "L.json") + " -q -o " +
+                  q(dir_ / "layers.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_texbake("bake " + bunny + " --proxy-file " + q(dir_ / "camera.json") + " --texture " +
+                  q(photos[0]) + " --occluded 1,0,1 -q -o " + q(dir_ / "camera.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto layers = colours(dir_ / "layers.ply"), camera = colours(dir_ / "camera.ply");
+  ASSERT_EQ(layers.size(), camera.size());
+  std::size_t both = 0, camera_only = 0;
+  for (std::size_t v = 0; v < layers.size(); ++v) {
+    const bool camera_sees = !(camera[v][0] == 255 && camera[v][1] == 0 && camera[v][2] == 255);
+    if (layers[v][3] == 0) {
+      camera_only += camera_sees;
+      continue;
+    }
+    ASSERT_TRUE(camera_sees) << "vertex " << v << ": the layer sees what the camera does not";
+    ++both;
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(layers[v][c], camera[v][c]) << "vertex " << v;
+  }
+  EXPECT_GT(both, 5000u);      // measured: 9,642 of the bunny's 37,706 vertices, all identical
+  EXPECT_GT(camera_only, 0u);  // seen between 75 and 90 degrees
 }
 
 TEST_F(LayersCli, CoverageIsTheGlbAlphaMode) {

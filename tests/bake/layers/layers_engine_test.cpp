@@ -1,0 +1,221 @@
+// The layers engine as the single-proxy bake (issue 29 items 1-2): a proxy
+// bake and the equivalent one-layer stack (base "none", the proxy's working
+// space: the stored encoding, straight alpha; outside clamp) give the same
+// 8-bit colours, byte for byte, for the vertex target under the area and
+// EWA filters and for the atlas target under EWA; and a filter that does
+// not apply to a projector is refused. The oracle is the independent proxy
+// loop (bake/vertex/bake_vertex.cpp, bake/atlas/bake_atlas.cpp), which has
+// its own golden tests.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "bake/atlas/bake_atlas.h"
+#include "bake/layers/layers_bake.h"
+#include "bake/vertex/bake_vertex.h"
+#include "tests/bake/test_meshes.h"
+
+namespace texbake {
+namespace {
+
+// An opaque sRGB image with detail at every scale: colour ramps plus a
+// checker of period 2 texels (which the EWA filter averages away when
+// minifying, and bilinear does not).
+std::vector<float> detailed_image(int w, int h) {
+  std::vector<float> px;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float check = ((x / 2 + y / 2) % 2) ? 0.8f : 0.1f;
+      px.insert(px.end(), {static_cast<float>(x) / w, check, static_cast<float>(y) / h, 1.f});
+    }
+  }
+  return px;
+}
+
+// What a PLY or PNG stores: the 8-bit value of each channel.
+std::array<int, 4> bytes(const Rgba& c) {
+  std::array<int, 4> b;
+  for (int k = 0; k < 4; ++k)
+    b[k] = static_cast<int>(std::lround(std::clamp(c[k], 0.f, 1.f) * 255));
+  return b;
+}
+
+// The one-layer stack equivalent to a proxy bake with `filter`.
+LayerInput proxy_layer(const ImageView& image, const Proxy& proxy, VertexFilter filter,
+                       int samples = 16) {
+  LayerInput in;
+  in.name = "proxy";
+  in.projector = proxy;
+  in.texture = image;
+  in.visibility = LayerVisibility::kAll;
+  in.outside = LayerOutside::kClamp;
+  in.filter = filter;
+  in.samples = samples;
+  in.linear = false;  // the single-proxy bake's working space
+  return in;
+}
+
+void expect_same_vertex_bytes(VertexFilter filter) {
+  const MeshData mesh = test::uv_sphere({0, 0, 0}, 1, 10, 20);
+  Expected<Proxy> sphere = make_proxy(SphereParams{{0, 0, 0}, 2, {0, 0, 1}, Vec3{1, 0, 0}});
+  ASSERT_TRUE(sphere);
+  const int w = 128, h = 64;  // minified: ~20 vertices around 128 texels
+  const std::vector<float> px = detailed_image(w, h);
+  const ImageView image{w, h, px.data(), ColorSpace::kSrgb};
+
+  VertexBakeOptions po;
+  po.filter = filter;
+  po.visibility = Visibility::kAll;
+  Expected<VertexBakeResult> proxy = bake_vertex(mesh, image, *sphere, po);
+  ASSERT_TRUE(proxy) << proxy.error().message;
+  Expected<LayersBakeResult> layers =
+      bake_vertex_layers(mesh, {proxy_layer(image, *sphere, filter)}, LayersBakeOptions{});
+  ASSERT_TRUE(layers) << layers.error().message;
+  ASSERT_EQ(proxy->colors.size(), layers->colors.size());
+  std::size_t differ = 0;
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    differ += bytes(proxy->colors[v]) != bytes(layers->colors[v]);
+  }
+  EXPECT_EQ(differ, 0u) << "of " << mesh.positions.size() << " vertices";
+  EXPECT_EQ(layers->uncovered, 0u);
+}
+
+TEST(LayersEngine, AreaFilterLayerIsTheProxyVertexBakeByteForByte) {
+  expect_same_vertex_bytes(VertexFilter::kArea);
+}
+
+TEST(LayersEngine, EwaLayerIsTheProxyVertexBakeByteForByte) {
+  expect_same_vertex_bytes(VertexFilter::kEwa);
+}
+
+TEST(LayersEngine, BilinearLayerIsTheProxyVertexBakeByteForByte) {
+  expect_same_vertex_bytes(VertexFilter::kBilinear);
+}
+
+TEST(LayersEngine, FiltersDifferFromBilinearWhereTheImageIsMinified) {
+  // The equality above is not that of three identical lookups: minifying
+  // the checker, area and EWA move the colours away from bilinear.
+  const MeshData mesh = test::uv_sphere({0, 0, 0}, 1, 10, 20);
+  Expected<Proxy> sphere = make_proxy(SphereParams{{0, 0, 0}, 2, {0, 0, 1}, Vec3{1, 0, 0}});
+  ASSERT_TRUE(sphere);
+  const std::vector<float> px = detailed_image(128, 64);
+  const ImageView image{128, 64, px.data(), ColorSpace::kSrgb};
+  auto bake = [&](VertexFilter f) {
+    Expected<LayersBakeResult> r =
+        bake_vertex_layers(mesh, {proxy_layer(image, *sphere, f)}, LayersBakeOptions{});
+    EXPECT_TRUE(r);
+    return r->colors;
+  };
+  const std::vector<Rgba> bilinear = bake(VertexFilter::kBilinear);
+  for (VertexFilter f : {VertexFilter::kArea, VertexFilter::kEwa}) {
+    const std::vector<Rgba> other = bake(f);
+    std::size_t differ = 0;
+    for (std::size_t v = 0; v < other.size(); ++v) differ += bytes(other[v]) != bytes(bilinear[v]);
+    EXPECT_GT(differ, other.size() / 4);
+  }
+}
+
+// A wavy unit grid (z = 0.2 sin(pi x)) with UVs (x, y): the atlas's layout.
+MeshData wavy_grid() {
+  MeshData mesh;
+  test::append_grid(mesh, 12, 12, [](double s, double t) {
+    return Float3{static_cast<float>(s), static_cast<float>(t),
+                  static_cast<float>(0.2 * std::sin(std::numbers::pi * s))};
+  });
+  test::faces_from_triangles(mesh);
+  std::vector<Float2> uvs;
+  for (const Float3& p : mesh.positions) uvs.push_back({p.x, p.y});
+  return mesh_with_triangle_uvs(mesh, uvs, mesh.triangles);
+}
+
+TEST(LayersEngine, EwaLayerIsTheProxyAtlasBakeByteForByte) {
+  const MeshData mesh = wavy_grid();
+  Expected<Proxy> plane = make_proxy(PlaneParams{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  ASSERT_TRUE(plane);
+  const int w = 256, h = 256;  // 8:1 minified onto the 32-texel atlas
+  const std::vector<float> px = detailed_image(w, h);
+  const ImageView image{w, h, px.data(), ColorSpace::kSrgb};
+  for (int samples : {1, 4}) {
+    AtlasBakeOptions ao;
+    ao.size = 32;
+    ao.samples = samples;
+    ao.padding = 2;
+    ao.shading.filter = VertexFilter::kEwa;
+    ao.shading.visibility = Visibility::kAll;
+    Expected<AtlasBakeResult> proxy = bake_atlas(mesh, image, *plane, ao);
+    ASSERT_TRUE(proxy) << proxy.error().message;
+    LayersAtlasOptions lo;
+    lo.size = ao.size;
+    lo.samples = samples;
+    lo.padding = ao.padding;
+    Expected<LayersAtlasResult> layers =
+        bake_atlas_layers(mesh, {proxy_layer(image, *plane, VertexFilter::kEwa)}, lo);
+    ASSERT_TRUE(layers) << layers.error().message;
+    ASSERT_EQ(proxy->baked, layers->baked);
+    std::size_t differ = 0, texels = 0;
+    for (std::size_t t = 0; t < proxy->baked.size(); ++t) {
+      if (!proxy->baked[t]) continue;
+      ++texels;
+      const float* a = &proxy->atlas.pixels[4 * t];
+      const float* b = &layers->atlas.pixels[4 * t];
+      differ += bytes({a[0], a[1], a[2], a[3]}) != bytes({b[0], b[1], b[2], b[3]});
+    }
+    EXPECT_GT(texels, 900u);
+    EXPECT_EQ(differ, 0u) << samples << " samples, of " << texels << " texels";
+  }
+}
+
+TEST(LayersEngine, PlaneWrapRepeatTilesTheLayer) {
+  // A plane over [0, 0.5]^2 repeated: the grid's point (0.75, 0.25) maps to
+  // u = 1.5, i.e. the image's middle; clamped it would be its right edge.
+  MeshData mesh;
+  test::append_grid(mesh, 4, 4, [](double s, double t) {
+    return Float3{static_cast<float>(s), static_cast<float>(t), 0.f};
+  });
+  test::faces_from_triangles(mesh);
+  Expected<Proxy> plane = make_proxy(PlaneParams{{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0}});
+  ASSERT_TRUE(plane);
+  // Two texels: left black, right white; u = 0.5 is their bilinear middle.
+  const std::vector<float> px = {0, 0, 0, 1, 1, 1, 1, 1};
+  const ImageView image{2, 1, px.data(), ColorSpace::kLinear};
+  LayerInput in = proxy_layer(image, *plane, VertexFilter::kBilinear);
+  in.linear = true;
+  in.outside = LayerOutside::kTransparent;
+  in.plane_wrap = WrapMode::kRepeat;
+  Expected<LayersBakeResult> r = bake_vertex_layers(mesh, {in}, LayersBakeOptions{});
+  ASSERT_TRUE(r) << r.error().message;
+  // Vertex (3, 1) of the 5 x 5 grid is (0.75, 0.25): u = 1.5 -> 0.5 (repeat),
+  // between the texel centres 0.25 and 0.75 halfway: linear 0.5, encoded.
+  const Rgba c = r->colors[1 * 5 + 3];
+  const double half = 1.055 * std::pow(0.5, 1 / 2.4) - 0.055;
+  EXPECT_NEAR(c[0], half, 1e-5);
+  EXPECT_NEAR(c[3], 1, 1e-6);  // covered: nothing is outside a repeated plane
+  EXPECT_EQ(r->uncovered, 0u);
+}
+
+TEST(LayersEngine, EwaThroughACameraIsRefused) {
+  MeshData mesh;
+  test::append_grid(mesh, 1, 1, [](double s, double t) {
+    return Float3{static_cast<float>(s), static_cast<float>(t), 0.f};
+  });
+  test::faces_from_triangles(mesh);
+  const std::vector<float> px = {1, 1, 1, 1};
+  LayerInput in;
+  in.name = "photo.png";
+  Expected<CameraPose> pose = pose_from_look_at({0.5, 0.5, 3}, {0.5, 0.5, 0}, {0, 1, 0}, "pose");
+  ASSERT_TRUE(pose);
+  Expected<CameraProjector> camera =
+      CameraProjector::make({CameraModel::kPinhole, 200, 200, {100, 100, 100, 100}, *pose});
+  ASSERT_TRUE(camera) << camera.error().message;
+  in.projector = *camera;
+  in.texture = ImageView{1, 1, px.data(), ColorSpace::kSrgb};
+  in.filter = VertexFilter::kEwa;
+  Expected<LayersBakeResult> r = bake_vertex_layers(mesh, {in}, LayersBakeOptions{});
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_NE(r.error().message.find("photo.png: EWA"), std::string::npos) << r.error().message;
+}
+
+}  // namespace
+}  // namespace texbake
