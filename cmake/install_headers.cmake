@@ -1,6 +1,6 @@
-# Installs bake/texbake/texbake.h and every project header it includes,
+# Installs bake/texbake/texbake.h, bake/texbake/job.h and every project header it includes,
 # transitively, under TEXBAKE_INCLUDE_DESTINATION keeping the source layout
-# (texbake.h at the top; mapping/, mesh_io/, bake/<folder>/ below it).
+# (texbake.h and job.h at the top; mapping/, mesh_io/, bake/<folder>/ below it).
 # Run by `cmake --install` (CMakeLists.txt, Installation), so the set follows
 # the includes as they are when installing. Inputs:
 #   TEXBAKE_SOURCE_DIR           the source root
@@ -13,7 +13,7 @@
 # The install script runs with CMake 2.x policies; include() scopes this.
 cmake_policy(VERSION 3.22)
 
-set(pending "bake/texbake/texbake.h")
+set(pending "bake/texbake/texbake.h" "bake/texbake/job.h")
 set(headers "")
 while(pending)
   list(POP_FRONT pending header)
@@ -27,12 +27,15 @@ while(pending)
   file(STRINGS "${TEXBAKE_SOURCE_DIR}/${header}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
   foreach(line IN LISTS includes)
     string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([^\"]+)\".*" "\\1" included "${line}")
+    if(included STREQUAL "texbake/texbake.h")  # job.h's, as an installed user writes it
+      set(included "bake/texbake/texbake.h")
+    endif()
     list(APPEND pending "${included}")
   endforeach()
 endwhile()
 
 foreach(header IN LISTS headers)
-  if(header STREQUAL "bake/texbake/texbake.h")
+  if(header STREQUAL "bake/texbake/texbake.h" OR header STREQUAL "bake/texbake/job.h")
     set(destination "${TEXBAKE_INCLUDE_DESTINATION}")
   else()
     get_filename_component(folder "${header}" DIRECTORY)

@@ -11,10 +11,6 @@
 
 namespace texbake::cli {
 
-int exit_code(const Error& error) {
-  return category(error) == ErrorCategory::kUsage ? 2 : 1;
-}
-
 int report_error(const Error& error) {
   std::cerr << "texbake: error: " << error.message << "\n";
   return exit_code(error);

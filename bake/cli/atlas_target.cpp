@@ -6,9 +6,6 @@
 
 #include "bake/cli/choice_option.h"
 #include "bake/cli/commands.h"
-#include "bake/cli/report.h"
-#include "bake/util/timing.h"
-#include "mesh_io/file_name.h"
 
 namespace texbake::cli {
 namespace fs = std::filesystem;
@@ -41,20 +38,9 @@ void add_atlas_flags(CLI::App& bake, AtlasFlags& flags) {
 }
 
 Expected<BakeTarget> resolve_target(const AtlasFlags& flags, const fs::path& output) {
-  const std::string ext = lower_extension(output);
-  if (ext != ".ply" && ext != ".obj" && ext != ".glb") {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "-o " + output.string() + ": unknown output format '" + ext +
-                          "' (texbake bake writes .ply, .obj and .glb)");
-  }
-  if (flags.target == "atlas" && ext == ".ply") {
-    return make_error(ErrorCode::kUnsupported,
-                      "--target atlas cannot write " + output.string() +
-                          ": PLY has no standard texture (use .obj or .glb)");
-  }
-  if (flags.target == "vertex") return BakeTarget::kVertex;
-  if (flags.target == "atlas") return BakeTarget::kAtlas;
-  return ext == ".ply" ? BakeTarget::kVertex : BakeTarget::kAtlas;
+  Expected<JobTarget> target = job_target(flags.target, output);
+  if (!target) return target.error();
+  return *target == JobTarget::kAtlas ? BakeTarget::kAtlas : BakeTarget::kVertex;
 }
 
 Expected<AtlasOptions> atlas_options(const AtlasFlags& flags, std::optional<int> samples,
@@ -80,26 +66,6 @@ WriteOptions atlas_write_options(const AtlasFlags& flags) {
   WriteOptions options;
   options.format = flags.format;
   return options;
-}
-
-int write_atlas_outputs(const std::filesystem::path& output, const Atlas& atlas,
-                        const WriteOptions& write, const std::string& report_path,
-                        const std::function<std::string(double write_seconds)>& make_report,
-                        const std::function<void(const std::string&)>& on_report,
-                        std::string& written) {
-  const auto stage = Clock::now();
-  if (Status s = write_atlas(output, atlas, write); !s) return report_error(s.error());
-  const std::string report = make_report(seconds_since(stage));
-  if (!report_path.empty()) {
-    if (Status s = write_report_text(report_path, report); !s) return report_error(s.error());
-  }
-  if (on_report) on_report(report);
-  written = output.string();
-  const std::vector<std::filesystem::path> files = atlas_files(output, write);
-  if (files.size() == 3) {
-    written += " (+ " + files[1].filename().string() + ", " + files[2].filename().string() + ")";
-  }
-  return 0;
 }
 
 }  // namespace texbake::cli

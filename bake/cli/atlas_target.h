@@ -6,7 +6,6 @@
 
 #include <CLI/CLI.hpp>
 #include <filesystem>
-#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -47,16 +46,5 @@ Expected<AtlasOptions> atlas_options(const AtlasFlags& flags, std::optional<int>
 
 // The writer options of the atlas flags (--format).
 WriteOptions atlas_write_options(const AtlasFlags& flags);
-
-// After an atlas bake (photos, layers): writes the atlas set atomically,
-// then the report made by make_report(write seconds) to report_path (when
-// not empty) and hands it to on_report (when set). Returns 0 or the exit
-// code of the failure (reported). `written` gets "OUT (+ M.mtl, M.png)" for
-// the summary line.
-int write_atlas_outputs(const std::filesystem::path& output, const Atlas& atlas,
-                        const WriteOptions& write, const std::string& report_path,
-                        const std::function<std::string(double write_seconds)>& make_report,
-                        const std::function<void(const std::string&)>& on_report,
-                        std::string& written);
 
 }  // namespace texbake::cli

@@ -1,11 +1,11 @@
 // texbake bake MESH --texture IMG --proxy KIND [geometry] [--target vertex|atlas]
 //   -o OUT.ply|OUT.obj|OUT.glb [options]   (SPEC sections 3 to 7)
 //
-// Parse -> validate every flag (exit 2) -> check the outputs are writable
-// (exit 1) -> load the mesh -> resolve the proxy (geometry flags not given
-// are fitted, bake/cli/proxy_for_mesh.h) -> load the image -> bake (vertex:
-// bake_vertex_colors; atlas: bake_atlas_texture, texbake/texbake.h) ->
-// write atomically (write_vertex_colors, write_atlas).
+// Parse -> validate every flag (exit 2) -> a texbake::Job (texbake/job.h:
+// an image through a proxy, --cameras, a camera --proxy-file, --layers) ->
+// run_job (no output an input, outputs writable, read the mesh, fit the
+// geometry flags not given, read, bake, write atomically, report) -> print
+// its warnings as they come and its error or summary line.
 // Bad flag values are rejected (exit 2), never clamped; flags of the other
 // target are rejected too rather than silently ignored. Outputs are written
 // atomically, so a failure never leaves a file behind.
@@ -14,7 +14,6 @@
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,14 +23,10 @@
 #include "bake/cli/commands.h"
 #include "bake/cli/file_checks.h"
 #include "bake/cli/geometry_flags.h"
-#include "bake/cli/layers_target.h"
 #include "bake/cli/photo_target.h"
 #include "bake/cli/progress_bar.h"
 #include "bake/cli/proxy_for_mesh.h"
-#include "bake/cli/report.h"
 #include "bake/cli/texture_flags.h"
-#include "bake/util/timing.h"
-#include "mesh_io/atomic_file.h"
 #include "mesh_io/file_name.h"
 #include "texbake/texbake.h"
 
@@ -156,8 +151,39 @@ GeometryFlags proxy_geometry(const GeometryFlags& flags, const fs::path& output)
   return g;
 }
 
+// Runs `job` (texbake/job.h) as the command line shows it: a progress bar
+// on a terminal, warnings and the fit's line as they happen, the error or
+// the summary line; returns the exit code.
+int run_cli_job(Job& job, const BakeCliOptions& o) {
+  job.report = o.report;
+  job.threads = o.threads;
+  job.cache_mb = o.cache_mb;
+  ProgressBar bar(!o.quiet && ProgressBar::stderr_is_terminal());
+  job.progress = bar.callback();
+  job.on_warning = [](const std::string& w) { std::cerr << "texbake: warning: " << w << "\n"; };
+  if (!o.quiet) job.on_note = [](const std::string& n) { std::cerr << "texbake: " << n << "\n"; };
+  const JobResult result = run_job(job);
+  if (!result.ok()) return report_error(*result.error);
+  if (o.on_report) o.on_report(result.report);
+  if (!o.quiet) {
+    std::printf("%s\n", result.summary.c_str());
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
+// The occluded colour of --occluded R,G,B[,A] into the photo or layers
+// bake's options (a keyword keeps their default, fill).
+template <class Options>
+void set_occluded(const BakeCliOptions& o, Options& options) {
+  if (o.occluded.keyword.empty()) {
+    options.occluded = OccludedMode::kColor;
+    options.occluded_color = o.occluded.color;
+  }
+}
+
 // bake --cameras: the photo flags against the projection flags and the
-// target's (exit 2), then bake/cli/photo_target.h.
+// target's (exit 2), then the job with Job::cameras (or Job::photo).
 // With `camera` (a camera --proxy-file): the one photo --texture through
 // that camera, seen up to 90 degrees (SPEC section 9's camera proxy).
 int run_bake_photos(const BakeCliOptions& o, const CameraProjector* camera = nullptr) {
@@ -200,29 +226,33 @@ int run_bake_photos(const BakeCliOptions& o, const CameraProjector* camera = nul
                         "writing " +
                             o.output + ")");
   }
-  PhotoJob job;
+  Job job;
   job.mesh = o.mesh;
   job.output = o.output;
-  job.report = o.report;
-  job.flags = o.photos;
+  PhotoBakeOptions& options = job.photo_options;
+  options.blend = o.photos.blend;
+  options.exposure = o.photos.exposure.value_or(ExposureMode::kGain);
+  options.strict_photos = o.photos.strict_photos;
   if (camera) {
-    job.flags.cameras = o.geometry.proxy_file->string();
-    job.single = Photo{fs::path(o.texture).filename().string(), *camera, o.texture};
-    job.flags.exposure = ExposureMode::kNone;  // one photo: nothing to balance
-    job.flags.strict_photos = true;            // --texture itself: never left out
-    job.color_space = o.texture_colorspace;
-  } else if (given_flags(*o.command, {"--texture-colorspace"}).size() > 0) {
-    job.color_space = o.texture_colorspace;
+    job.proxy_file = *o.geometry.proxy_file;
+    job.texture = o.texture;
+    job.photo = Photo{fs::path(o.texture).filename().string(), *camera, o.texture};
+    options.exposure = ExposureMode::kNone;  // one photo: nothing to balance
+    options.strict_photos = true;            // --texture itself: never left out
+    options.color_space = o.texture_colorspace;
+  } else {
+    job.cameras = o.photos.cameras;
+    job.images = o.photos.images;
+    if (given_flags(*o.command, {"--texture-colorspace"}).size() > 0) {
+      options.color_space = o.texture_colorspace;
+    }
   }
-  if (o.occluded.keyword.empty()) {
-    job.occluded = OccludedMode::kColor;
-    job.occluded_color = o.occluded.color;
-  }
+  set_occluded(o, options);
   job.write = atlas_write_options(o.atlas);
   job.write.ascii = o.ascii;
   job.write.up = up_direction(o.geometry);
-  job.atlas = atlas;
   if (atlas) {
+    job.target = JobTarget::kAtlas;
     if (o.atlas.uv == UvLayout::kProxy) {
       return report_error(ErrorCode::kInvalidArgument, "--uv proxy needs a proxy, and " + what +
                                                            (camera ? " is a camera" : " has none") +
@@ -230,17 +260,14 @@ int run_bake_photos(const BakeCliOptions& o, const CameraProjector* camera = nul
     }
     Expected<AtlasOptions> a = atlas_options(o.atlas, o.samples, VertexBakeOptions{}, o.output);
     if (!a) return report_error(a.error());
-    job.atlas_options = *a;
+    job.atlas = *a;
   }
-  job.threads = o.threads;
-  job.quiet = o.quiet;
-  job.on_report = o.on_report;
-  return run_photo_bake(job);
+  return run_cli_job(job, o);
 }
 
 // bake --layers: the layers file holds every projection, so the flags of
 // the single projection and of --cameras are usage errors (exit 2), then
-// bake/cli/layers_target.h.
+// the job with Job::layers.
 int run_bake_layers(const BakeCliOptions& o) {
   // --samples is the atlas's supersample count (the vertex target has none).
   const std::vector<std::string> projection = given_flags(
@@ -272,15 +299,12 @@ int run_bake_layers(const BakeCliOptions& o) {
                             (atlas ? "vertex" : "atlas") + " only (this bake's target is " +
                             (atlas ? "atlas" : "vertex") + ", writing " + o.output + ")");
   }
-  LayersJob job;
+  Job job;
   job.mesh = o.mesh;
   job.layers = o.layers;
   job.output = o.output;
-  job.report = o.report;
-  if (o.occluded.keyword.empty()) {
-    job.occluded = OccludedMode::kColor;
-    job.occluded_color = o.occluded.color;
-  }
+  set_occluded(o, job.layers_options);
+  job.layers_options.strict_photos = o.photos.strict_photos;
   if (atlas) {
     if (o.atlas.uv == UvLayout::kProxy) {
       return report_error(ErrorCode::kInvalidArgument,
@@ -289,24 +313,18 @@ int run_bake_layers(const BakeCliOptions& o) {
     }
     Expected<AtlasOptions> a = atlas_options(o.atlas, o.samples, VertexBakeOptions{}, o.output);
     if (!a) return report_error(a.error());
-    job.atlas = true;
-    job.atlas_options = *a;
+    job.target = JobTarget::kAtlas;
+    job.atlas = *a;
     // Not given: the base texture's size (base "mesh"), else 2048.
-    if (given_flags(*o.command, {"--size"}).empty()) job.atlas_options.bake.size = 0;
+    if (given_flags(*o.command, {"--size"}).empty()) job.atlas.bake.size = 0;
     job.write = atlas_write_options(o.atlas);
   }
   job.write.ascii = o.ascii;
   job.write.up = up_direction(o.geometry);
-  job.threads = o.threads;
-  job.quiet = o.quiet;
-  job.cache_mb = o.cache_mb;
-  job.strict_photos = o.photos.strict_photos;
-  job.on_report = o.on_report;
-  return run_layers_bake(job);
+  return run_cli_job(job, o);
 }
 
 int run_bake(const BakeCliOptions& o) {
-  const auto start = Clock::now();
   if (!o.layers.empty()) return run_bake_layers(o);
   if (!o.photos.cameras.empty()) return run_bake_photos(o);
   if (const std::vector<std::string> photo_only =
@@ -377,8 +395,8 @@ int run_bake(const BakeCliOptions& o) {
     return report_error(s.error());
   }
   // All geometry given (or a file): build and validate the proxy now, so a
-  // bad value is reported before the long work. Otherwise the fit needs the
-  // mesh.
+  // bad value is reported before the long work. Otherwise the job fits it
+  // to the mesh.
   std::optional<FlagsProxy> resolved;
   if (geometry.proxy_file || missing_geometry_flags(geometry, *geometry.kind).empty()) {
     Expected<Proxy> proxy = proxy_from_flags(geometry);
@@ -389,145 +407,24 @@ int run_bake(const BakeCliOptions& o) {
     }
   }
 
-  const std::vector<fs::path> outputs =
-      atlas ? atlas_files(output, write_options) : std::vector<fs::path>{output};
-  // ---- No output may overwrite an input or another output (exit 2). ----
-  {
-    JobFileNames files;
-    files.mesh = o.mesh;
-    files.texture = o.texture;
-    files.proxy_file = geometry.proxy_file.value_or("");
-    files.output = output;
-    files.atlas = atlas;
-    files.write = write_options;
-    files.report = o.report;
-    if (Status s = check_job_files(files); !s) return report_error(s.error());
-  }
-
-  // ---- Outputs must be writable before the long work (exit 1). ----
-  for (const fs::path& p : outputs) {
-    if (Status s = check_writable(p); !s) return report_error(s.error());
-  }
-  if (!o.report.empty()) {
-    if (Status s = check_writable(o.report); !s) return report_error(s.error());
-  }
-
-  ProgressBar bar(!o.quiet && ProgressBar::stderr_is_terminal());
-  RunOptions run;
-  run.threads = o.threads;
-  run.progress = bar.callback();
-  BakeReport report;
-  report.mesh_path = o.mesh;
-  report.texture_path = o.texture;
-  report.output_path = o.output;
-  report.threads = o.threads;
-  report.options = shading;
-
-  // ---- Load the mesh, resolve the proxy, load the image. ----
-  auto stage_start = Clock::now();
-  Expected<LoadedMesh> mesh = read_mesh(o.mesh, run);
-  if (!mesh) return report_error(mesh.error());
-  report.load = seconds_since(stage_start);
-  if (atlas && o.atlas.uv == UvLayout::kMesh && !mesh->mesh.has_uvs()) {
-    // The flag does not fit the given mesh: a usage error (exit 2).
-    return report_error(
-        ErrorCode::kInvalidArgument,
-        "--uv mesh: " + o.mesh + " has no UV coordinates (use --uv generate or --uv proxy)");
-  }
-  // Nothing to bake is the mesh's problem, reported before a fit's.
-  if (Status s = check_triangles(mesh->mesh); !s) return report_mesh_error(s.error(), o.mesh);
-  if (!resolved) {
-    Expected<FlagsProxy> fitted =
-        proxy_for_mesh(geometry, mesh->mesh, o.mesh, o.quiet ? nullptr : &std::cerr, run);
-    if (!fitted) return report_error(fitted.error());
-    resolved = std::move(*fitted);
-    report.fit = resolved->stats.timings.fit;
-  }
-  const Proxy& proxy = resolved->proxy;
-  report.proxy = params_of(proxy);
-  report.fitted_flags = resolved->fitted_flags;
-
-  stage_start = Clock::now();
-  const bool ewa = o.filter == VertexFilter::kEwa;
-  Expected<Image> image =
-      read_image(o.texture, texture_read_options(o.texture_colorspace, o.cache_mb, o.linear, ewa));
-  if (!image) return report_error(image.error());
-  if (ewa) {
-    if (Status s = check_ewa_budget(*image, o.cache_mb, o.linear); !s) {
-      return report_error(s.error());
-    }
-  }
-  report.load += seconds_since(stage_start);
-  report.image_width = image->width;
-  report.image_height = image->height;
-  report.image_cached = image->tiles != nullptr;
-  // The file's levels, unless --linear needs linear-light ones (working_image).
-  if (ewa && image->mip && !(o.linear && image->color_space == ColorSpace::kSrgb)) {
-    report.image_mip_levels = static_cast<int>(image->mip->levels.size());
-  }
-  warn_nonfinite(*image, o.texture);
-  warn_color_space(*image, o.texture);
-
-  std::string what, written = o.output;  // the summary line: what was baked, where
-  if (atlas) {
-    // ---- Atlas: UV layout, bake, pad; write. ----
-    // The loaded mesh is not needed afterwards: the bake takes it (one mesh in
-    // memory, not two).
-    Expected<Atlas> baked =
-        bake_atlas_texture(std::move(mesh->mesh), image->view(), proxy, atlas_opts, run);
-    if (!baked) return report_mesh_error(baked.error(), o.mesh);
-    for (const std::string& w : baked->stats.warnings) {
-      std::cerr << "texbake: warning: " << w << "\n";
-    }
-    const auto write_start = Clock::now();
-    if (Status s = write_atlas(output, *baked, write_options); !s) return report_error(s.error());
-    report.write = seconds_since(write_start);
-    report.stats = baked->stats;
-    report.atlas = AtlasReport{atlas_opts.bake, baked->uv};
-    if (outputs.size() == 3) {
-      written +=
-          " (+ " + outputs[1].filename().string() + ", " + outputs[2].filename().string() + ")";
-    }
-    const Counts& c = baked->stats.counts;
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu occluded, %zu outside, "
-                  "%zu padded)",
-                  atlas_opts.bake.size, atlas_opts.bake.size, to_string(baked->uv.used), c.texels,
-                  c.samples, c.occluded, c.outside, c.padded);
-    what = line;
+  // ---- The job (texbake/job.h): file checks, read, fit, bake, write. ----
+  Job job;
+  job.mesh = o.mesh;
+  job.texture = o.texture;
+  if (resolved) {
+    job.proxy = std::move(resolved->proxy);
   } else {
-    // ---- Vertex: sample, free the image, fill; write. ----
-    Expected<VertexColors> baked =
-        bake_vertex_colors(mesh->mesh, std::move(*image), proxy, shading, run);
-    if (!baked) return report_mesh_error(baked.error(), o.mesh);
-    for (const std::string& w : baked->stats.warnings) {
-      std::cerr << "texbake: warning: " << w << "\n";
-    }
-    const auto write_start = Clock::now();
-    if (Status s = write_vertex_colors(output, mesh->mesh, baked->colors, write_options); !s) {
-      return report_error(s.error());
-    }
-    report.write = seconds_since(write_start);
-    report.stats = baked->stats;
-    const Counts& c = baked->stats.counts;
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "baked %zu vertices (%zu occluded, %zu filled, %zu unfilled, %zu outside "
-                  "samples)",
-                  c.vertices, c.occluded, c.filled, c.unfilled, c.outside);
-    what = line;
+    job.spec = spec_from_flags(geometry);
   }
-  report.total = seconds_since(start);
-  if (o.on_report) o.on_report(report_json(report));
-  if (!o.report.empty()) {
-    if (Status s = write_report(o.report, report); !s) return report_error(s.error());
-  }
-  if (!o.quiet) {
-    std::printf("%s in %.2f s -> %s\n", what.c_str(), report.total, written.c_str());
-    std::fflush(stdout);
-  }
-  return 0;
+  job.proxy_file = geometry.proxy_file.value_or("");
+  job.naming = ParamNaming::kFlag;
+  job.target = atlas ? JobTarget::kAtlas : JobTarget::kVertex;
+  job.output = output;
+  job.write = write_options;
+  job.shading = shading;
+  job.atlas = atlas_opts;
+  job.texture_colorspace = o.texture_colorspace;
+  return run_cli_job(job, o);
 }
 
 }  // namespace

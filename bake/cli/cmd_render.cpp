@@ -238,8 +238,7 @@ int run_render(const RenderArgs& args) {
     auto img = read_image(
         args.texture, texture_read_options(args.texture_colorspace, args.cache_mb, false, false));
     if (!img) return report_error(img.error());
-    warn_nonfinite(*img, args.texture);
-    warn_color_space(*img, args.texture);
+    warn_image(*img, args.texture);
     texture = std::move(img).value();
     if (camera) {
       const CameraSpec& spec = camera->spec();
@@ -281,8 +280,7 @@ int run_render(const RenderArgs& args) {
     auto img = read_mesh_texture(mesh, {args.texture_colorspace});
     if (!img) return report_error(img.error());
     const std::string name = mesh_texture_label(mesh);
-    warn_nonfinite(*img, name);
-    warn_color_space(*img, name);
+    warn_image(*img, name);
     if (loaded->issues.other_material_primitives > 0) {
       std::cerr << "texbake: warning: " << args.mesh << ": "
                 << loaded->issues.other_material_primitives

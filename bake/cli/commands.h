@@ -9,6 +9,7 @@
 #include <functional>
 #include <string>
 
+#include "texbake/job.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -19,7 +20,7 @@ using RunFunction = std::function<int()>;
 // besides the exit code.
 struct CliHooks {
   // Called by a successful `bake` with its report (report_json of
-  // bake/cli/report.h), whether or not --report was given.
+  // texbake/report.h), whether or not --report was given.
   std::function<void(const std::string& report_json)> on_report;
 };
 
@@ -35,10 +36,7 @@ RunFunction add_batch_command(CLI::App& app);
 // texbake cameras check (bake/cli/cmd_cameras.cpp).
 RunFunction add_cameras_command(CLI::App& app);
 
-// The exit code of an error, by its category (texbake/texbake.h): 2 for
-// kUsage, 1 for kInput, kInternal and kCancelled (SPEC section 5). The one
-// place the CLI maps errors to exit codes.
-int exit_code(const Error& error);
+// exit_code(error): texbake/job.h's, the one place errors map to exit codes.
 
 // Prints "texbake: error: <message>" to stderr and returns exit_code(error).
 int report_error(const Error& error);

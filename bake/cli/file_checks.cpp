@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "mesh_io/atomic_file.h"
+#include "texbake/job.h"
 
 namespace texbake::cli {
 
@@ -14,20 +15,9 @@ Status check_job_before_work(const JobFileNames& job) {
   return ok_status();
 }
 
-void warn_nonfinite(const Image& image, const std::string& name) {
-  if (image.nonfinite_values > 0) {
-    std::cerr << "texbake: warning: " << name << ": " << image.nonfinite_values
-              << " NaN or infinite values read as 0\n";
-  }
-}
-
-void warn_color_space(const Image& image, const std::string& name) {
-  if (!image.unrecognised_color_space.empty()) {
-    const bool linear = image.color_space == ColorSpace::kLinear;
-    std::cerr << "texbake: warning: " << name << ": colour space '"
-              << image.unrecognised_color_space << "' is neither sRGB nor linear: read as "
-              << (linear ? "linear (float data)" : "sRGB (integer data)")
-              << " (--texture-colorspace sets it)\n";
+void warn_image(const Image& image, const std::string& name) {
+  for (const std::string& w : image_warnings(image, name)) {
+    std::cerr << "texbake: warning: " << w << "\n";
   }
 }
 

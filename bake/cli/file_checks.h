@@ -15,14 +15,9 @@ namespace texbake::cli {
 // job_outputs(job) writable (mesh_io/atomic_file.h check_writable: exit 1).
 Status check_job_before_work(const JobFileNames& job);
 
-// Prints "texbake: warning: TEXTURE: N NaN or infinite values read as 0"
-// when the image had any (mesh_io/image_io.h, Image::nonfinite_values).
-void warn_nonfinite(const Image& image, const std::string& name);
-
-// Prints "texbake: warning: TEXTURE: colour space 'X' is neither sRGB nor
-// linear: read as linear (float data) (--texture-colorspace sets it)" when
-// read_image could not place the file's oiio:ColorSpace
-// (Image::unrecognised_color_space).
-void warn_color_space(const Image& image, const std::string& name);
+// Prints "texbake: warning: W" for each warning W of image_warnings
+// (texbake/job.h: NaN or infinite values read as 0, a colour space read
+// as neither sRGB nor linear).
+void warn_image(const Image& image, const std::string& name);
 
 }  // namespace texbake::cli

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "texbake/job.h"
+
 namespace texbake::cli {
 
 Expected<FlagsProxy> proxy_for_mesh(const GeometryFlags& flags, const MeshData& mesh,
@@ -13,25 +15,11 @@ Expected<FlagsProxy> proxy_for_mesh(const GeometryFlags& flags, const MeshData& 
     if (!proxy) return proxy.error();
     return FlagsProxy{std::move(*proxy), {}, {}};
   }
-  const ProxyKind kind = *flags.kind;
-  Expected<CompletedProxy> done =
-      complete_proxy(spec_from_flags(flags), mesh, run, ParamNaming::kFlag);
-  if (!done) {
-    // The mesh's shape, not the command line, is at fault: exit 1.
-    if (category(done.error()) == ErrorCategory::kInput) {
-      return make_error(done.error().code, mesh_name + ": " + done.error().message);
-    }
-    return done.error();
-  }
-  std::vector<std::string> filled;
-  for (const std::string& key : done->fitted) filled.emplace_back(find_field(kind, key)->flag);
-  if (log && !filled.empty()) {
-    std::string names;
-    for (const std::string& f : filled) names += (names.empty() ? "" : " ") + f;
-    *log << "texbake: fitted " << to_string(kind) << " (" << names << ") to " << done->points
-         << " vertices of " << mesh_name << ": " << proxy_to_json(done->proxy) << "\n";
-  }
-  return FlagsProxy{std::move(done->proxy), std::move(filled), std::move(done->stats)};
+  Expected<ResolvedProxy> done =
+      resolve_proxy(spec_from_flags(flags), mesh, mesh_name, ParamNaming::kFlag, run);
+  if (!done) return done.error();
+  if (log && !done->note.empty()) *log << "texbake: " << done->note << "\n";
+  return FlagsProxy{std::move(done->proxy), std::move(done->fitted), std::move(done->stats)};
 }
 
 }  // namespace texbake::cli

@@ -45,9 +45,10 @@
 #include <string>
 #include <vector>
 
+#include "texbake/job.h"
 #include "texbake/texbake.h"
 
-namespace texbake::cli {
+namespace texbake {
 
 struct AtlasReport {
   AtlasBakeOptions options;  // size, samples per texel, padding
@@ -86,4 +87,19 @@ Status write_report(const std::filesystem::path& path, const BakeReport& report)
 // The same for a report's text made elsewhere (the photo and layers bakes).
 Status write_report_text(const std::filesystem::path& path, const std::string& text);
 
-}  // namespace texbake::cli
+// The photo bakes' reports (vertex, atlas: inputs, counts, the atlas
+// object, one entry per camera, the photos left out, timings) and the
+// layers bakes' (one entry per layer), as JSON text; times in seconds.
+// Their "photos_skipped": one {"image", "path", "reason"} per photo left
+// out because it cannot be read (skipped_photos_json).
+nlohmann::ordered_json skipped_photos_json(const std::vector<SkippedPhoto>& skipped);
+std::string photo_report(const Job& job, const PhotoColors& baked, double load, double write,
+                         double total);
+std::string photo_atlas_report(const Job& job, const PhotoAtlas& baked, double load, double write,
+                               double total);
+std::string layers_report(const Job& job, const LayerColors& baked, double load, double write,
+                          double total);
+std::string layers_atlas_report(const Job& job, const LayerAtlas& baked, double load, double write,
+                                double total);
+
+}  // namespace texbake

@@ -1,0 +1,483 @@
+#include "texbake/job.h"
+
+#include <cstdarg>
+#include <cstdio>
+#include <exception>
+#include <new>
+#include <utility>
+
+#include "bake/util/timing.h"
+#include "mapping/proxy_schema.h"
+#include "mesh_io/atomic_file.h"
+#include "mesh_io/file_name.h"
+#include "mesh_io/mesh_texture.h"
+#include "mesh_io/proxy_json.h"
+#include "texbake/report.h"
+
+namespace texbake {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The job's state while it runs: the result and the proxy report being filled.
+class JobRun {
+ public:
+  explicit JobRun(const Job& job) : job_(job) {}
+
+  JobResult run() {
+    start_ = Clock::now();
+    Status s = ok_status();
+    try {
+      s = !job_.layers.empty()                  ? run_layers()
+          : !job_.cameras.empty() || job_.photo ? run_photos()
+                                                : run_proxy();
+    } catch (const std::bad_alloc&) {
+      s = make_error(ErrorCode::kInternal, "out of memory");
+    } catch (const std::exception& e) {
+      s = make_error(ErrorCode::kInternal, std::string("unexpected failure: ") + e.what());
+    }
+    if (!s) {
+      result_.error = s.error();
+      result_.exit_code = exit_code(s.error());
+      result_.report.clear();
+      result_.summary.clear();
+    }
+    result_.seconds = seconds_since(start_);
+    return std::move(result_);
+  }
+
+ private:
+  bool atlas() const { return job_.target == JobTarget::kAtlas; }
+
+  void warn(const std::string& text) {
+    result_.warnings.push_back(text);
+    if (job_.on_warning) job_.on_warning(text);
+  }
+
+  RunOptions run_options() const { return RunOptions{job_.threads, job_.progress}; }
+
+  // An error of a call on the mesh: the API's errors do not name its file,
+  // so a kInput message not naming it yet is prefixed "MESH: ".
+  Error mesh_error(Error error) const {
+    const std::string mesh = job_.mesh.string();
+    if (category(error) == ErrorCategory::kInput && error.message.find(mesh) == std::string::npos)
+      error.message = mesh + ": " + error.message;
+    return error;
+  }
+
+  // The files of the job: the outputs (-o and, for an atlas .obj, its
+  // material and image, the report) and `inputs`' own.
+  JobFileNames files() const {
+    JobFileNames f;
+    f.mesh = job_.mesh;
+    f.texture = job_.texture;
+    f.proxy_file = job_.proxy_file;
+    f.cameras = job_.cameras;
+    f.images = job_.images;
+    f.layers = job_.layers;
+    f.output = job_.output;
+    f.atlas = atlas();
+    f.write = job_.write;
+    f.report = job_.report;
+    return f;
+  }
+
+  // Before any file is read: the writer's options, no output an input or
+  // another output, every output writable.
+  Status check_files() const {
+    if (job_.mesh.empty() || job_.output.empty()) {
+      return make_error(ErrorCode::kInvalidArgument, "a job needs a mesh and an output");
+    }
+    if (Status s = validate_write(job_.output, job_.write, atlas()); !s) return s;
+    const JobFileNames f = files();
+    if (Status s = check_job_files(f); !s) return s;
+    for (const NamedFile& out : job_outputs(f)) {
+      if (Status s = check_writable(out.path); !s) return s;
+    }
+    return ok_status();
+  }
+
+  // The mesh; with `check_uv`, --uv mesh on a mesh without UVs is refused.
+  Expected<LoadedMesh> read_job_mesh(bool check_uv = true) const {
+    Expected<LoadedMesh> mesh = read_mesh(job_.mesh, RunOptions{job_.threads, {}});
+    if (mesh && check_uv && atlas() && job_.atlas.uv == UvLayout::kMesh && !mesh->mesh.has_uvs()) {
+      // The option does not fit the given mesh: a usage error.
+      const bool proxy = job_.layers.empty() && job_.cameras.empty() && !job_.photo;
+      return make_error(ErrorCode::kInvalidArgument,
+                        "--uv mesh: " + job_.mesh.string() + " has no UV coordinates (use --uv " +
+                            (proxy ? "generate or --uv proxy)" : "generate)"));
+    }
+    return mesh;
+  }
+
+  // Writes the atlas set, then the report made by make_report(write seconds).
+  template <class MakeReport>
+  Status write_atlas_set(const Atlas& baked, MakeReport make_report) {
+    const auto stage = Clock::now();
+    if (Status s = write_atlas(job_.output, baked, job_.write); !s) return s;
+    result_.outputs = atlas_files(job_.output, job_.write);
+    return write_report_of(make_report(seconds_since(stage)));
+  }
+
+  Status write_report_of(std::string report) {
+    result_.report = std::move(report);
+    if (job_.report.empty()) return ok_status();
+    if (Status s = write_report_text(job_.report, result_.report); !s) return s;
+    result_.outputs.push_back(job_.report);
+    return ok_status();
+  }
+
+  // The summary line: "WHAT in S s -> OUT" (an atlas .obj: "OUT (+ M.mtl, M.png)").
+  __attribute__((format(printf, 2, 3))) void summarise(const char* format, ...) {
+    char what[512];
+    va_list args;
+    va_start(args, format);
+    std::vsnprintf(what, sizeof what, format, args);
+    va_end(args);
+    std::string written = job_.output.string();
+    if (atlas()) {
+      const std::vector<fs::path> files = atlas_files(job_.output, job_.write);
+      if (files.size() == 3) {
+        written +=
+            " (+ " + files[1].filename().string() + ", " + files[2].filename().string() + ")";
+      }
+    }
+    char seconds[64];
+    std::snprintf(seconds, sizeof seconds, " in %.2f s -> ", seconds_since(start_));
+    result_.summary = what + std::string(seconds) + written;
+  }
+
+  // ---- An image through a proxy ----
+
+  // The job's proxy: given, or its spec completed by a fit to the mesh.
+  Expected<Proxy> job_proxy(const MeshData& mesh, const RunOptions& run) {
+    if (job_.proxy) return *job_.proxy;
+    Expected<ResolvedProxy> done =
+        resolve_proxy(job_.spec, mesh, job_.mesh.string(), job_.naming, run);
+    if (!done) return done.error();
+    result_.fitted = done->fitted;
+    report_.fit = done->stats.timings.fit;
+    if (job_.on_note && !done->note.empty()) job_.on_note(done->note);
+    return std::move(done->proxy);
+  }
+
+  Expected<Image> read_texture() {
+    const bool ewa = job_.shading.filter == VertexFilter::kEwa;
+    const bool linear = job_.shading.linear;
+    Expected<Image> image = read_image(
+        job_.texture, texture_read_options(job_.texture_colorspace, job_.cache_mb, linear, ewa));
+    if (!image) return image.error();
+    if (ewa) {
+      if (Status s = check_ewa_budget(*image, job_.cache_mb, linear); !s) return s.error();
+    }
+    report_.image_width = image->width;
+    report_.image_height = image->height;
+    report_.image_cached = image->tiles != nullptr;
+    // The file's levels, unless linear light needs its own (working_image).
+    if (ewa && image->mip && !(linear && image->color_space == ColorSpace::kSrgb)) {
+      report_.image_mip_levels = static_cast<int>(image->mip->levels.size());
+    }
+    for (const std::string& w : image_warnings(*image, job_.texture.string())) warn(w);
+    return image;
+  }
+
+  Status check_proxy_options() const {
+    if (job_.texture.empty()) {
+      return make_error(ErrorCode::kInvalidArgument,
+                        "a job needs a texture (or cameras to bake from photographs, or layers)");
+    }
+    if (!atlas()) return validate_options(job_.shading);
+    AtlasOptions a = job_.atlas;
+    a.bake.shading = job_.shading;
+    return validate_options(a);
+  }
+
+  Status run_proxy() {
+    if (Status s = check_proxy_options(); !s) return s;
+    if (Status s = check_files(); !s) return s;
+    const RunOptions run = run_options();
+    report_.mesh_path = job_.mesh.string();
+    report_.texture_path = job_.texture.string();
+    report_.output_path = job_.output.string();
+    report_.threads = job_.threads;
+    report_.options = job_.shading;
+
+    auto stage = Clock::now();
+    Expected<LoadedMesh> mesh = read_job_mesh();
+    if (!mesh) return mesh.error();
+    report_.load = seconds_since(stage);
+    // Nothing to bake is the mesh's problem, reported before a fit's.
+    if (Status s = check_triangles(mesh->mesh); !s) return mesh_error(s.error());
+    Expected<Proxy> proxy = job_proxy(mesh->mesh, run);
+    if (!proxy) return proxy.error();
+    report_.proxy = params_of(*proxy);
+    report_.fitted_flags = result_.fitted;
+
+    stage = Clock::now();
+    Expected<Image> image = read_texture();
+    if (!image) return image.error();
+    report_.load += seconds_since(stage);
+
+    if (atlas()) {
+      AtlasOptions options = job_.atlas;
+      options.bake.shading = job_.shading;
+      // The bake takes the loaded mesh (one mesh in memory, not two).
+      Expected<Atlas> baked =
+          bake_atlas_texture(std::move(mesh->mesh), image->view(), *proxy, options, run);
+      if (!baked) return mesh_error(baked.error());
+      for (const std::string& w : baked->stats.warnings) warn(w);
+      report_.stats = result_.stats = baked->stats;
+      report_.atlas = AtlasReport{options.bake, baked->uv};
+      if (Status s = write_atlas_set(*baked,
+                                     [&](double write) {
+                                       report_.write = write;
+                                       report_.total = seconds_since(start_);
+                                       return report_json(report_);
+                                     });
+          !s) {
+        return s;
+      }
+      const Counts& c = baked->stats.counts;
+      summarise(
+          "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu occluded, %zu outside, %zu "
+          "padded)",
+          options.bake.size, options.bake.size, to_string(baked->uv.used), c.texels, c.samples,
+          c.occluded, c.outside, c.padded);
+      return ok_status();
+    }
+    // Sample, free the image, fill; write.
+    Expected<VertexColors> baked =
+        bake_vertex_colors(mesh->mesh, std::move(*image), *proxy, job_.shading, run);
+    if (!baked) return mesh_error(baked.error());
+    for (const std::string& w : baked->stats.warnings) warn(w);
+    stage = Clock::now();
+    if (Status s = write_vertex_colors(job_.output, mesh->mesh, baked->colors, job_.write); !s) {
+      return s;
+    }
+    result_.outputs = {job_.output};
+    report_.write = seconds_since(stage);
+    report_.stats = result_.stats = baked->stats;
+    report_.total = seconds_since(start_);
+    if (Status s = write_report_of(report_json(report_)); !s) return s;
+    const Counts& c = baked->stats.counts;
+    summarise("baked %zu vertices (%zu occluded, %zu filled, %zu unfilled, %zu outside samples)",
+              c.vertices, c.occluded, c.filled, c.unfilled, c.outside);
+    return ok_status();
+  }
+
+  // ---- Photographs ----
+
+  // A bake error about a photo (bake/photo/photo_view.h: "the photo of
+  // camera ...", "no usable photo: ...") names the photo; other input
+  // errors are the mesh's.
+  Error photo_error(const Error& error) const {
+    const std::string& m = error.message;
+    if (m.rfind("the photo of camera ", 0) == 0 || m.rfind("no usable photo", 0) == 0) return error;
+    return mesh_error(error);
+  }
+
+  Status run_photos() {
+    if (Status s = check_files(); !s) return s;
+    auto stage = Clock::now();
+    Expected<std::vector<Photo>> photos =
+        job_.photo ? Expected<std::vector<Photo>>(std::vector<Photo>{*job_.photo})
+                   : read_cameras(job_.cameras, job_.images);
+    if (!photos) return photos.error();
+    Expected<LoadedMesh> mesh = read_job_mesh();
+    if (!mesh) return mesh.error();
+    const double load = seconds_since(stage);
+    PhotoBakeOptions options = job_.photo_options;
+    if (job_.photo) options = camera_proxy_options(options);
+    const RunOptions run = run_options();
+    if (atlas()) {
+      Expected<PhotoAtlas> baked =
+          bake_atlas_texture_from_photos(mesh->mesh, *photos, options, job_.atlas, run);
+      if (!baked) return photo_error(baked.error());
+      for (const std::string& w : baked->atlas.stats.warnings) warn(w);
+      result_.stats = baked->atlas.stats;
+      if (Status s = write_atlas_set(baked->atlas,
+                                     [&](double write) {
+                                       return photo_atlas_report(job_, *baked, load, write,
+                                                                 seconds_since(start_));
+                                     });
+          !s) {
+        return s;
+      }
+      const Counts& c = baked->atlas.stats.counts;
+      summarise(
+          "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu unseen, %zu padded) from %zu "
+          "photos",
+          job_.atlas.bake.size, job_.atlas.bake.size, to_string(baked->atlas.uv.used), c.texels,
+          c.samples, c.occluded, c.padded, baked->cameras.size());
+      return ok_status();
+    }
+    Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh->mesh, *photos, options, run);
+    if (!baked) return photo_error(baked.error());
+    for (const std::string& w : baked->stats.warnings) warn(w);
+    result_.stats = baked->stats;
+    stage = Clock::now();
+    if (Status s = write_vertex_colors(job_.output, mesh->mesh, baked->colors, job_.write); !s) {
+      return s;
+    }
+    result_.outputs = {job_.output};
+    const double write = seconds_since(stage);
+    if (Status s = write_report_of(photo_report(job_, *baked, load, write, seconds_since(start_)));
+        !s) {
+      return s;
+    }
+    const Counts& c = baked->stats.counts;
+    summarise("baked %zu vertices from %zu photos (%zu unseen, %zu filled, %zu unfilled)",
+              c.vertices, baked->cameras.size(), c.occluded, c.filled, c.unfilled);
+    return ok_status();
+  }
+
+  // ---- Layers ----
+
+  Status run_layers() {
+    if (Status s = check_files(); !s) return s;
+    auto stage = Clock::now();
+    Expected<LayersSpec> spec = read_layers(job_.layers);
+    if (!spec) return spec.error();
+    Expected<LoadedMesh> mesh = read_job_mesh(/*check_uv=*/false);
+    if (!mesh) return mesh.error();
+    if (atlas() && mesh->mesh.has_texture()) {
+      // Nor the base texture, named by the mesh.
+      const std::vector<NamedFile> read{{"the texture of MESH", mesh->mesh.texture_path}};
+      if (Status s = check_distinct_files(read, job_outputs(files())); !s) return s;
+    }
+    const double load = seconds_since(stage);
+    LayersBakeOptions options = job_.layers_options;
+    options.base = spec->base;
+    options.base_color = spec->base_color;
+    options.cache_mb = job_.cache_mb;
+    const RunOptions run = run_options();
+    if (atlas()) {
+      if (spec->base == LayerBase::kMesh && mesh->mesh.has_texture() &&
+          mesh->issues.other_material_primitives > 0) {
+        warn(job_.mesh.string() + ": " + std::to_string(mesh->issues.other_material_primitives) +
+             " primitive(s) use another material: base \"mesh\" is the first material's "
+             "texture (" +
+             mesh_texture_label(mesh->mesh) + ") over every triangle");
+      }
+      Expected<LayerAtlas> baked =
+          bake_atlas_texture_from_layers(mesh->mesh, *spec, options, job_.atlas, run);
+      if (!baked) return mesh_error(baked.error());
+      for (const std::string& w : baked->atlas.stats.warnings) warn(w);
+      result_.stats = baked->atlas.stats;
+      if (Status s = write_atlas_set(baked->atlas,
+                                     [&](double write) {
+                                       return layers_atlas_report(job_, *baked, load, write,
+                                                                  seconds_since(start_));
+                                     });
+          !s) {
+        return s;
+      }
+      const Counts& c = baked->atlas.stats.counts;
+      summarise(
+          "baked a %dx%d atlas (uv %s, %zu texels, %zu samples, %zu uncovered, %zu padded) from "
+          "%zu layers",
+          baked->atlas.image.width, baked->atlas.image.height, to_string(baked->atlas.uv.used),
+          c.texels, c.samples, c.occluded, c.padded, baked->layers.size());
+      return ok_status();
+    }
+    Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh->mesh, *spec, options, run);
+    if (!baked) return mesh_error(baked.error());
+    for (const std::string& w : baked->stats.warnings) warn(w);
+    result_.stats = baked->stats;
+    stage = Clock::now();
+    if (Status s = write_vertex_colors(job_.output, mesh->mesh, baked->colors, job_.write); !s) {
+      return s;
+    }
+    result_.outputs = {job_.output};
+    const double write = seconds_since(stage);
+    if (Status s = write_report_of(layers_report(job_, *baked, load, write, seconds_since(start_)));
+        !s) {
+      return s;
+    }
+    const Counts& c = baked->stats.counts;
+    summarise("baked %zu vertices from %zu layers (%zu uncovered, %zu filled)", c.vertices,
+              baked->layers.size(), c.occluded, c.filled);
+    return ok_status();
+  }
+
+  const Job& job_;
+  Clock::time_point start_;
+  JobResult result_;
+  BakeReport report_;  // the proxy bake's
+};
+
+}  // namespace
+
+Expected<ResolvedProxy> resolve_proxy(const ProxySpec& spec, const MeshData& mesh,
+                                      const std::string& mesh_name, ParamNaming naming,
+                                      const RunOptions& run) {
+  Expected<CompletedProxy> done = complete_proxy(spec, mesh, run, naming);
+  if (!done) {
+    // The mesh's shape, not the options, is at fault: name the mesh.
+    if (category(done.error()) == ErrorCategory::kInput) {
+      return make_error(done.error().code, mesh_name + ": " + done.error().message);
+    }
+    return done.error();
+  }
+  ResolvedProxy r{std::move(done->proxy), {}, {}, std::move(done->stats)};
+  std::string names;
+  for (const std::string& key : done->fitted) {
+    const ParamField* field = find_field(spec.kind, key);
+    r.fitted.emplace_back(naming == ParamNaming::kFlag && field ? field->flag : key);
+    names += (names.empty() ? "" : " ") + r.fitted.back();
+  }
+  if (!r.fitted.empty()) {
+    r.note = "fitted " + std::string(to_string(spec.kind)) + " (" + names + ") to " +
+             std::to_string(done->points) + " vertices of " + mesh_name + ": " +
+             proxy_to_json(r.proxy);
+  }
+  return r;
+}
+
+std::vector<std::string> image_warnings(const Image& image, const std::string& name) {
+  std::vector<std::string> w;
+  if (image.nonfinite_values > 0) {
+    w.push_back(name + ": " + std::to_string(image.nonfinite_values) +
+                " NaN or infinite values read as 0");
+  }
+  if (!image.unrecognised_color_space.empty()) {
+    const bool linear = image.color_space == ColorSpace::kLinear;
+    w.push_back(name + ": colour space '" + image.unrecognised_color_space +
+                "' is neither sRGB nor linear: read as " +
+                (linear ? "linear (float data)" : "sRGB (integer data)") +
+                " (--texture-colorspace sets it)");
+  }
+  return w;
+}
+
+Expected<JobTarget> job_target(const std::string& target, const fs::path& output) {
+  const std::string ext = lower_extension(output);
+  if (ext != ".ply" && ext != ".obj" && ext != ".glb") {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "-o " + output.string() + ": unknown output format '" + ext +
+                          "' (texbake bake writes .ply, .obj and .glb)");
+  }
+  if (target == "atlas" && ext == ".ply") {
+    return make_error(ErrorCode::kUnsupported,
+                      "--target atlas cannot write " + output.string() +
+                          ": PLY has no standard texture (use .obj or .glb)");
+  }
+  if (target == "vertex") return JobTarget::kVertex;
+  if (target == "atlas") return JobTarget::kAtlas;
+  if (!target.empty()) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "--target '" + target + "' is not vertex or atlas");
+  }
+  return ext == ".ply" ? JobTarget::kVertex : JobTarget::kAtlas;
+}
+
+int exit_code(const Error& error) {
+  return category(error) == ErrorCategory::kUsage ? 2 : 1;
+}
+
+JobResult run_job(const Job& job) {
+  return JobRun(job).run();
+}
+
+}  // namespace texbake
