@@ -27,7 +27,7 @@ while(pending)
   file(STRINGS "${TEXBAKE_SOURCE_DIR}/${header}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
   foreach(line IN LISTS includes)
     string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([^\"]+)\".*" "\\1" included "${line}")
-    if(included STREQUAL "texbake/texbake.h")  # job.h's, as an installed user writes it
+    if(included STREQUAL "texbake.h")  # job.h's sibling, beside it installed too
       set(included "bake/texbake/texbake.h")
     endif()
     list(APPEND pending "${included}")

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "texbake/texbake.h"
+#include "texbake.h"  // its sibling, in the source tree and installed
 
 namespace texbake {
 

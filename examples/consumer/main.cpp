@@ -7,16 +7,22 @@
 // (pole +y) to the bunny, then bakes the Earth map
 //   1. into vertex colours, written to OUTPUT_DIR/bunny.ply, and
 //   2. into a 512 x 512 atlas on generated UV charts, written to
-//      OUTPUT_DIR/bunny.obj (+ bunny.mtl + bunny.png),
+//      OUTPUT_DIR/bunny.obj (+ bunny.mtl + bunny.png), and
+//   3. into vertex colours again through the job front door
+//      (<texbake/job.h>, run_job: read, fit, bake, write), written to
+//      OUTPUT_DIR/bunny_job.ply, which must hold the bytes of bunny.ply,
 // checks the results (every vertex colour finite; the atlas covers texels
 // and took samples) and prints one line per output. Exit status: 0 on
 // success, 2 on a usage error (wrong arguments, or an error of category
 // kUsage), 1 otherwise; errors go to stderr as "texbake_consumer: error: ...".
+#include <texbake/job.h>
 #include <texbake/texbake.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 namespace {
@@ -31,6 +37,11 @@ int fail(const texbake::Error& error) {
 int fail(const std::string& message) {
   std::fprintf(stderr, "texbake_consumer: error: %s\n", message.c_str());
   return 1;
+}
+
+std::string file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 bool all_finite(const std::vector<texbake::Rgba>& colors) {
@@ -101,5 +112,18 @@ int main(int argc, char** argv) {
   }
   std::printf("%s: %dx%d atlas, %zu charts, %zu texels covered\n", files.c_str(),
               atlas->image.width, atlas->image.height, atlas->uv.charts, counts.texels);
+
+  // 3. The same vertex bake as one job: run_job reads, fits, bakes and writes.
+  texbake::Job job;
+  job.mesh = data / "bunny00.off";
+  job.texture = data / "earth.jpg";
+  job.spec = spec;
+  job.output = out / "bunny_job.ply";
+  const texbake::JobResult result = texbake::run_job(job);
+  if (!result.ok()) return fail(*result.error);
+  if (file_bytes(job.output) != file_bytes(ply)) {
+    return fail(job.output.string() + " differs from " + ply.string());
+  }
+  std::printf("%s\n", result.summary.c_str());
   return 0;
 }

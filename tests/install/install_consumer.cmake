@@ -12,7 +12,9 @@
 #      (<name> without '.' or '/') and each other;
 #   3. configure and build examples/consumer against the prefix alone
 #      (CMAKE_PREFIX_PATH) in a folder of its own and run it on data/: it
-#      writes bunny.ply and bunny.obj + .mtl + .png, which must be non-empty;
+#      writes bunny.ply and bunny.obj + .mtl + .png, which must be non-empty,
+#      and bunny_job.ply through run_job (<texbake/job.h>), which it checks
+#      equals bunny.ply;
 #   4. run the installed `texbake --version`, and `texbake bake` on the same
 #      two jobs: its outputs must equal the consumer's byte for byte.
 cmake_minimum_required(VERSION 3.22)
@@ -77,7 +79,7 @@ run("${CMAKE_COMMAND}" --build "${consumer_build}" --config "${CONFIG}")
 find_program(consumer texbake_consumer PATHS "${consumer_build}" "${consumer_build}/${CONFIG}"
   NO_DEFAULT_PATH REQUIRED)
 run("${consumer}" "${SOURCE_DIR}/data" "${out}")
-foreach(file bunny.ply bunny.obj bunny.mtl bunny.png)
+foreach(file bunny.ply bunny.obj bunny.mtl bunny.png bunny_job.ply)
   file(SIZE "${out}/${file}" size)  # fatal when missing
   if(size EQUAL 0)
     message(FATAL_ERROR "${out}/${file} is empty")
