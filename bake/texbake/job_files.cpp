@@ -10,6 +10,7 @@
 
 #include "bake/texbake/run.h"
 #include "mesh_io/layers_json.h"
+#include "mesh_io/mesh_files.h"
 #include "texbake/texbake.h"
 
 namespace texbake {
@@ -124,6 +125,8 @@ std::vector<NamedFile> colmap_workspace_files(const fs::path& dir, int views) {
 std::vector<NamedFile> job_inputs(const JobFileNames& job) {
   std::vector<NamedFile> files;
   add(files, "MESH", job.mesh);
+  // Its material libraries, textures, buffers and images (mesh_io/mesh_files.h).
+  for (const fs::path& named : mesh_named_files(job.mesh)) add(files, "a file MESH names:", named);
   add(files, "--texture", job.texture);
   add(files, "--proxy-file", job.proxy_file);
   append(files, camera_files(job.cameras, job.images, "--cameras"));

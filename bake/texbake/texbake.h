@@ -647,7 +647,9 @@ struct JobFileNames {
   std::filesystem::path results;     // the batch's --results (every job of it writes it)
 };
 
-// Every file the job reads, paths as given: MESH "MESH", --texture,
+// Every file the job reads, paths as given: MESH "MESH" and the files it
+// names ("a file MESH names:", mesh_io/mesh_files.h: an OBJ's material
+// libraries and textures, a .gltf's buffers and images), --texture,
 // --proxy-file, the camera files of --cameras (camera_files), the layers
 // file and what it names (layers_files), the batch's jobs file "JOBS".
 // A layers file or camera model that cannot be read adds what could be

@@ -87,6 +87,18 @@ class DistinctFiles : public ::testing::TestWithParam<Row> {
     write(dir_ / "tetuv.mtl", "newmtl m\nmap_Kd R/images/view_00.png\n");
     write_png(dir_ / "R/images/view_00.png", 4, 4);
     write_png(dir_ / "t.png", 4, 4);
+    // An OBJ whose material library and texture an atlas -o could name, and
+    // a .gltf naming an external buffer (percent-encoded) and image.
+    write(dir_ / "tetm.obj",
+          "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\n"
+          "usemtl m\nf 1/1 3/3 2/2\nf 1/1 2/2 4/3\nf 1/1 4/3 3/2\nf 2/1 3/2 4/3\n");
+    write(dir_ / "m.mtl", "newmtl m\nmap_Kd mt.png\n");
+    write_png(dir_ / "mt.png", 4, 4);
+    write(dir_ / "g.gltf",
+          R"({"asset":{"version":"2.0"},"buffers":[{"uri":"g%20b.bin","byteLength":4}],)"
+          R"("images":[{"uri":"gi.png"}]})");
+    write(dir_ / "g b.bin", "abcd");
+    write_png(dir_ / "gi.png", 4, 4);
     // A camera proxy file and its photo.
     write(dir_ / "cam.json", std::string("{") + kCamera + "}");
     write_png(dir_ / "photo.png", 8, 6);
@@ -183,6 +195,22 @@ const Row kRows[] = {
     {"BakeReportOntoTexture",
      {BAKE, "-o", "@x.ply", "--report", "@t.png"},
      {"--report ", "--texture "}},
+    // ... and the files the mesh names (an OBJ's material library and its
+    // texture, a .gltf's buffers and images).
+    {"BakeAtlasMaterialOntoMeshMaterial",
+     {"bake", "@tetm.obj", "--texture", "@t.png", "{sphere}", "--uv", "generate", "--size", "8",
+      "-o", "@m.obj"},
+     {"the material of -o", "a file MESH names: ", "m.mtl"}},
+    {"BakeAtlasImageOntoMeshTexture",
+     {"bake", "@tetm.obj", "--texture", "@t.png", "{sphere}", "--uv", "generate", "--size", "8",
+      "-o", "@mt.obj"},
+     {"the atlas image of -o", "a file MESH names: ", "mt.png"}},
+    {"BakeReportOntoGltfBuffer",
+     {"bake", "@g.gltf", "--texture", "@t.png", "{sphere}", "-o", "@x.ply", "--report", "@g b.bin"},
+     {"--report ", "a file MESH names: ", "g b.bin"}},
+    {"BakeReportOntoGltfImage",
+     {"bake", "@g.gltf", "--texture", "@t.png", "{sphere}", "-o", "@x.ply", "--report", "@gi.png"},
+     {"--report ", "a file MESH names: ", "gi.png"}},
     {"BakeReportOntoProxyFile",
      {"bake", "@tet.ply", "--texture", "@t.png", "--proxy-file", "@lp.json", "-o", "@x.ply",
       "--report", "@lp.json"},
@@ -264,10 +292,10 @@ const Row kRows[] = {
      {"--colmap ", "--proxy-file ", "cameras.txt"}},
     {"RenderColmapViewOntoMeshTexture",
      {"render", "@tetuv.obj", "--size", "8x8", "--colmap", "@R"},
-     {"--colmap ", "the texture of MESH ", "view_00.png"}},
+     {"--colmap ", "a file MESH names: ", "view_00.png"}},
     {"RenderOutputOntoMeshTexture",
      {"render", "@tetuv.obj", "--size", "8x8", "-o", "@R/images/view_00.png"},
-     {"-o ", "the texture of MESH "}},
+     {"-o ", "a file MESH names: "}},
     // batch: the jobs file and --results are an input and an output of
     // every job; each job's own files as bake's.
     {"BatchResultsOntoJobs",

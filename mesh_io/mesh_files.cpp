@@ -1,0 +1,154 @@
+#include "mesh_io/mesh_files.h"
+
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <system_error>
+
+#include "mesh_io/file_name.h"
+#include "mesh_io/json_strict.h"
+#include "mesh_io/regular_file.h"
+#include "mesh_io/text_scan.h"
+
+namespace texbake {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Calls fn(rest) for each line of the file whose first token is `keyword`,
+// with the rest of the line trimmed (OBJ and MTL names may hold spaces, and
+// OpenMesh takes the whole rest). Reads in blocks, so that an OBJ of
+// gigabytes is scanned without holding it.
+template <class Fn>
+void for_each_keyword_line(const fs::path& path, std::string_view keyword, Fn&& fn) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) return;
+  constexpr std::size_t kBlock = std::size_t{1} << 20;
+  std::string buffer(kBlock, '\0');
+  std::string carry;  // the start of a line cut by the block's end
+  auto line_of = [&](std::string_view line) {
+    const std::string_view t = read_detail::trim(line);
+    if (t.size() > keyword.size() && t.substr(0, keyword.size()) == keyword &&
+        (t[keyword.size()] == ' ' || t[keyword.size()] == '\t')) {
+      fn(read_detail::trim(t.substr(keyword.size())));
+    }
+  };
+  while (true) {
+    const std::size_t n = std::fread(buffer.data(), 1, kBlock, f.get());
+    if (n == 0) break;
+    std::string_view block(buffer.data(), n);
+    while (!block.empty()) {
+      const char* nl = static_cast<const char*>(std::memchr(block.data(), '\n', block.size()));
+      if (!nl) {
+        // A line longer than any name texbake reads is not one of these.
+        if (carry.size() < 65536) carry.append(block);
+        break;
+      }
+      const std::size_t len = static_cast<std::size_t>(nl - block.data());
+      if (carry.empty()) {
+        line_of(block.substr(0, len));
+      } else {
+        carry.append(block.substr(0, len));
+        line_of(carry);
+        carry.clear();
+      }
+      block.remove_prefix(len + 1);
+    }
+  }
+  if (!carry.empty()) line_of(carry);
+}
+
+bool file_exists(const fs::path& p) {
+  std::error_code ec;
+  return fs::exists(p, ec);
+}
+
+// read_obj.cpp's rules: OpenMesh opens a library as FOLDER/NAME; the
+// texture is NAME if absolute, else relative to the OBJ's folder.
+std::vector<fs::path> obj_files(const fs::path& obj) {
+  std::vector<fs::path> files;
+  const std::string dir = obj.has_parent_path() ? obj.parent_path().string() : ".";
+  std::vector<fs::path> libraries;
+  for_each_keyword_line(obj, "mtllib", [&](std::string_view name) {
+    const fs::path lib = dir + "/" + std::string(name);
+    if (file_exists(lib)) libraries.push_back(lib);
+  });
+  for (const fs::path& lib : libraries) {
+    files.push_back(lib);
+    if (!check_text_file(lib, "a material library")) continue;  // not read: names nothing
+    for_each_keyword_line(lib, "map_Kd", [&](std::string_view name) {
+      const fs::path p(name);
+      const fs::path texture = p.is_absolute() ? p : obj.parent_path() / p;
+      if (file_exists(texture)) files.push_back(texture.lexically_normal());
+    });
+  }
+  return files;
+}
+
+int hex(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+// RFC 3986 percent-decoding, as read_gltf.cpp decodes a URI before opening it.
+std::string percent_decoded(const std::string& uri) {
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+      out.push_back(static_cast<char>(hex(uri[i + 1]) * 16 + hex(uri[i + 2])));
+      i += 2;
+    } else {
+      out.push_back(uri[i]);
+    }
+  }
+  return out;
+}
+
+// A .gltf's buffers[].uri and images[].uri that are not data: URIs, as
+// given and percent-decoded, beside the file (read_gltf.cpp refuses any
+// other, so those name no file it opens).
+std::vector<fs::path> gltf_files(const fs::path& gltf) {
+  std::vector<fs::path> files;
+  if (!check_text_file(gltf, "a glTF file")) return files;
+  std::ifstream in(gltf, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  Expected<nlohmann::json> doc = parse_json_object<nlohmann::json>(text, gltf.string());
+  if (!doc) return files;
+  for (const char* key : {"buffers", "images"}) {
+    const auto list = doc->find(key);
+    if (list == doc->end() || !list->is_array()) continue;
+    for (const nlohmann::json& item : *list) {
+      if (!item.is_object()) continue;
+      const auto uri = item.find("uri");
+      if (uri == item.end() || !uri->is_string()) continue;
+      const std::string& u = uri->get_ref<const std::string&>();
+      if (u.rfind("data:", 0) == 0) continue;
+      std::vector<std::string> names{u};
+      if (std::string decoded = percent_decoded(u); decoded != u) names.push_back(decoded);
+      for (const std::string& name : names) {
+        const fs::path p = gltf.parent_path() / fs::u8path(name);
+        if (file_exists(p)) files.push_back(p.lexically_normal());
+      }
+    }
+  }
+  return files;
+}
+
+}  // namespace
+
+std::vector<fs::path> mesh_named_files(const fs::path& mesh) {
+  const std::string ext = lower_extension(mesh);
+  if (ext == ".obj") return obj_files(mesh);
+  if (ext == ".gltf") return gltf_files(mesh);
+  return {};
+}
+
+}  // namespace texbake
