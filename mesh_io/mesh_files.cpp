@@ -91,27 +91,6 @@ std::vector<fs::path> obj_files(const fs::path& obj) {
   return files;
 }
 
-int hex(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return -1;
-}
-
-// RFC 3986 percent-decoding, as read_gltf.cpp decodes a URI before opening it.
-std::string percent_decoded(const std::string& uri) {
-  std::string out;
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
-      out.push_back(static_cast<char>(hex(uri[i + 1]) * 16 + hex(uri[i + 2])));
-      i += 2;
-    } else {
-      out.push_back(uri[i]);
-    }
-  }
-  return out;
-}
-
 // A .gltf's buffers[].uri and images[].uri that are not data: URIs, as
 // given and percent-decoded, beside the file (read_gltf.cpp refuses any
 // other, so those name no file it opens).
@@ -132,7 +111,8 @@ std::vector<fs::path> gltf_files(const fs::path& gltf) {
       const std::string& u = uri->get_ref<const std::string&>();
       if (u.rfind("data:", 0) == 0) continue;
       std::vector<std::string> names{u};
-      if (std::string decoded = percent_decoded(u); decoded != u) names.push_back(decoded);
+      if (std::string decoded = read_detail::percent_decode(u); decoded != u)
+        names.push_back(decoded);
       for (const std::string& name : names) {
         const fs::path p = gltf.parent_path() / fs::u8path(name);
         if (file_exists(p)) files.push_back(p.lexically_normal());

@@ -51,6 +51,7 @@
 #include "mesh_io/json_strict.h"
 #include "mesh_io/read_mesh_internal.h"
 #include "mesh_io/regular_file.h"
+#include "mesh_io/text_scan.h"
 
 namespace texbake::read_detail {
 namespace fs = std::filesystem;
@@ -229,26 +230,6 @@ bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*,
   if (image->bufferView >= 0 || !image->uri.empty()) return true;
   if (size > 0) image->image.assign(bytes, bytes + size);
   return true;
-}
-
-// RFC 3986 percent-decoding of a URI reference (glTF image URIs).
-std::string percent_decode(const std::string& uri) {
-  std::string out;
-  auto hex = [](char c) -> int {
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-  };
-  for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
-      out.push_back(static_cast<char>(hex(uri[i + 1]) * 16 + hex(uri[i + 2])));
-      i += 2;
-    } else {
-      out.push_back(uri[i]);
-    }
-  }
-  return out;
 }
 
 std::string first_line(const std::string& s) {

@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <system_error>
 #include <vector>
@@ -74,5 +75,9 @@ struct TokenCursor {
   // name. Empty if the cursor is at a line break.
   std::string_view rest_of_line();
 };
+
+// RFC 3986 percent-decoding of a URI reference (a glTF's URIs): each %XX
+// of two hex digits is that byte; anything else is kept as it is.
+std::string percent_decode(const std::string& uri);
 
 }  // namespace texbake::read_detail
