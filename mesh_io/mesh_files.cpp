@@ -73,6 +73,8 @@ bool file_exists(const fs::path& p) {
 // texture is NAME if absolute, else relative to the OBJ's folder.
 std::vector<fs::path> obj_files(const fs::path& obj) {
   std::vector<fs::path> files;
+  // A device or a FIFO would be read forever (read_mesh refuses it).
+  if (!check_regular_file(obj, "a mesh file")) return files;
   const std::string dir = obj.has_parent_path() ? obj.parent_path().string() : ".";
   std::vector<fs::path> libraries;
   for_each_keyword_line(obj, "mtllib", [&](std::string_view name) {

@@ -67,6 +67,12 @@ TEST_F(MeshFiles, OtherFormatsAndUnreadableFilesNameNothing) {
   EXPECT_TRUE(mesh_named_files(dir_ / "m.ply").empty());
   EXPECT_TRUE(mesh_named_files(dir_ / "bad.gltf").empty());
   EXPECT_TRUE(mesh_named_files(dir_ / "absent.obj").empty());
+  // A device is not scanned (an endless /dev/zero would hang the job's
+  // file check; read_mesh reports it instead).
+  fs::create_symlink("/dev/zero", dir_ / "zero.obj");
+  fs::create_directories(dir_ / "folder.obj");
+  EXPECT_TRUE(mesh_named_files(dir_ / "zero.obj").empty());
+  EXPECT_TRUE(mesh_named_files(dir_ / "folder.obj").empty());
 }
 
 }  // namespace
