@@ -1,6 +1,6 @@
-# Installs bake/texbake/texbake.h, bake/texbake/job.h and every project header it includes,
+# Installs bake/texbake/texbake.h, job.h, job_options.h and every project header they include,
 # transitively, under TEXBAKE_INCLUDE_DESTINATION keeping the source layout
-# (texbake.h and job.h at the top; mapping/, mesh_io/, bake/<folder>/ below it).
+# (texbake.h, job.h and job_options.h at the top; mapping/, mesh_io/, bake/<folder>/ below it).
 # Run by `cmake --install` (CMakeLists.txt, Installation), so the set follows
 # the includes as they are when installing. Inputs:
 #   TEXBAKE_SOURCE_DIR           the source root
@@ -13,7 +13,7 @@
 # The install script runs with CMake 2.x policies; include() scopes this.
 cmake_policy(VERSION 3.22)
 
-set(pending "bake/texbake/texbake.h" "bake/texbake/job.h")
+set(pending "bake/texbake/texbake.h" "bake/texbake/job.h" "bake/texbake/job_options.h")
 set(headers "")
 while(pending)
   list(POP_FRONT pending header)
@@ -27,15 +27,15 @@ while(pending)
   file(STRINGS "${TEXBAKE_SOURCE_DIR}/${header}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*\"")
   foreach(line IN LISTS includes)
     string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([^\"]+)\".*" "\\1" included "${line}")
-    if(included STREQUAL "texbake.h")  # job.h's sibling, beside it installed too
-      set(included "bake/texbake/texbake.h")
+    if(included MATCHES "^[^/]+$")  # a sibling of the top headers, beside them installed too
+      set(included "bake/texbake/${included}")
     endif()
     list(APPEND pending "${included}")
   endforeach()
 endwhile()
 
 foreach(header IN LISTS headers)
-  if(header STREQUAL "bake/texbake/texbake.h" OR header STREQUAL "bake/texbake/job.h")
+  if(header MATCHES "^bake/texbake/(texbake|job|job_options)\\.h$")
     set(destination "${TEXBAKE_INCLUDE_DESTINATION}")
   else()
     get_filename_component(folder "${header}" DIRECTORY)

@@ -593,4 +593,69 @@ Expected<std::vector<ColmapImage>> read_colmap_model(const fs::path& folder) {
   return images;
 }
 
+namespace {
+
+// points3D.txt: `POINT3D_ID X Y Z R G B ERROR TRACK[]`; only X Y Z are kept.
+Expected<std::vector<Vec3>> read_points_text(const fs::path& path) {
+  std::vector<Vec3> points;
+  const std::string file = path.filename().string();
+  Status s = for_data_lines(path, [&](std::size_t number, const std::string& line, bool blank) {
+    if (blank) return ok_status();
+    std::istringstream in(line);
+    uint64_t id = 0;
+    double x = 0, y = 0, z = 0;
+    if (!read_token(in, id) || !read_token(in, x) || !read_token(in, y) || !read_token(in, z)) {
+      return Status(parse_error(file + " line " + std::to_string(number),
+                                "expected POINT3D_ID X Y Z R G B ERROR TRACK[] (finite X Y Z)"));
+    }
+    points.push_back({x, y, z});
+    return ok_status();
+  });
+  if (!s) return s.error();
+  return points;
+}
+
+// points3D.bin: u64 count; per point u64 id, 3 doubles, 3 bytes of colour, a
+// double error, u64 track length and 8 bytes per track element (skipped).
+Expected<std::vector<Vec3>> read_points_binary(const fs::path& path) {
+  Expected<BinaryReader> r = BinaryReader::open(path);
+  if (!r) return r.error();
+  const std::string file = path.filename().string();
+  uint64_t count = 0;
+  if (!r->read(count)) return r->truncated(0);
+  constexpr uint64_t kMinRecord = 8 + 24 + 3 + 8 + 8;
+  if (Status s = check_count(*r, count, kMinRecord, file); !s) return s.error();
+  std::vector<Vec3> points;
+  points.reserve(count);
+  for (uint64_t i = 0; i < count; ++i) {
+    uint64_t id = 0, track = 0;
+    double xyz[3], error = 0;
+    uint8_t rgb[3];
+    if (!r->read(id) || !r->read(xyz[0]) || !r->read(xyz[1]) || !r->read(xyz[2]) ||
+        !r->read(rgb[0]) || !r->read(rgb[1]) || !r->read(rgb[2]) || !r->read(error) ||
+        !r->read(track) || !r->skip(track, 8)) {
+      return r->truncated(i);
+    }
+    if (!std::isfinite(xyz[0]) || !std::isfinite(xyz[1]) || !std::isfinite(xyz[2])) {
+      return parse_error(file, "record " + std::to_string(i) + ": a point that is not finite");
+    }
+    points.push_back({xyz[0], xyz[1], xyz[2]});
+  }
+  if (r->remaining() != 0) {
+    return parse_error(file, "trailing bytes after record " + std::to_string(count));
+  }
+  return points;
+}
+
+}  // namespace
+
+Expected<std::vector<Vec3>> read_colmap_points(const fs::path& folder) {
+  const bool binary = is_file(folder / "cameras.bin") && is_file(folder / "images.bin");
+  const fs::path path = folder / (binary ? "points3D.bin" : "points3D.txt");
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return std::vector<Vec3>{};
+  if (Status s = check_regular_file(path, "a COLMAP model file"); !s) return s.error();
+  return binary ? read_points_binary(path) : read_points_text(path);
+}
+
 }  // namespace texbake

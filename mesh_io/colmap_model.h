@@ -1,8 +1,9 @@
 // COLMAP sparse models (SPEC section 9, --cameras FOLDER): the cameras and
 // registered images of `cameras.txt` + `images.txt` or `cameras.bin` +
-// `images.bin` (COLMAP's own formats, doc/format.rst; `points3D` is not
-// needed and not read). Each image becomes one camera projector
-// (mapping/camera.h) with its photo's file name.
+// `images.bin` (COLMAP's own formats, doc/format.rst). Each image becomes
+// one camera projector (mapping/camera.h) with its photo's file name. The
+// sparse points of `points3D` are read apart (read_colmap_points), for the
+// check that the model is in the mesh's frame.
 //
 // When a folder holds both forms, the binary one is read, as COLMAP does.
 // Text: '#' starts a comment line; cameras.txt has `CAMERA_ID MODEL WIDTH
@@ -21,6 +22,7 @@
 
 #include "mapping/camera.h"
 #include "mapping/error.h"
+#include "mapping/vec.h"
 
 namespace texbake {
 
@@ -57,5 +59,13 @@ Expected<std::vector<ColmapImage>> read_colmap_model(const std::filesystem::path
 Status write_colmap_model(const std::filesystem::path& folder,
                           const std::vector<ColmapImage>& images, bool binary,
                           AtomicFileSet* set = nullptr);
+
+// The model's sparse 3D points (X Y Z of points3D.txt, or points3D.bin when
+// the model is binary; colours, errors and tracks are skipped), in file
+// order; none when the file is absent (a model written without points).
+// Errors: kIo (unreadable), kParse naming the file and the line or record (a
+// malformed line, a point that is not finite, a truncated binary file,
+// trailing bytes).
+Expected<std::vector<Vec3>> read_colmap_points(const std::filesystem::path& folder);
 
 }  // namespace texbake

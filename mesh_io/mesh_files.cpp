@@ -1,5 +1,6 @@
 #include "mesh_io/mesh_files.h"
 
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -93,15 +94,12 @@ std::vector<fs::path> obj_files(const fs::path& obj) {
   return files;
 }
 
-// A .gltf's buffers[].uri and images[].uri that are not data: URIs, as
-// given and percent-decoded, beside the file (read_gltf.cpp refuses any
-// other, so those name no file it opens).
-std::vector<fs::path> gltf_files(const fs::path& gltf) {
+// A glTF document's buffers[].uri and images[].uri that are not data:
+// URIs, as given and percent-decoded, beside the file (read_gltf.cpp
+// refuses any other, so those name no file it opens).
+std::vector<fs::path> uri_files(std::string_view json, const fs::path& file) {
   std::vector<fs::path> files;
-  if (!check_text_file(gltf, "a glTF file")) return files;
-  std::ifstream in(gltf, std::ios::binary);
-  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  Expected<nlohmann::json> doc = parse_json_object<nlohmann::json>(text, gltf.string());
+  Expected<nlohmann::json> doc = parse_json_object<nlohmann::json>(json, file.string());
   if (!doc) return files;
   for (const char* key : {"buffers", "images"}) {
     const auto list = doc->find(key);
@@ -116,12 +114,42 @@ std::vector<fs::path> gltf_files(const fs::path& gltf) {
       if (std::string decoded = read_detail::percent_decode(u); decoded != u)
         names.push_back(decoded);
       for (const std::string& name : names) {
-        const fs::path p = gltf.parent_path() / fs::u8path(name);
+        const fs::path p = file.parent_path() / fs::u8path(name);
         if (file_exists(p)) files.push_back(p.lexically_normal());
       }
     }
   }
   return files;
+}
+
+std::vector<fs::path> gltf_files(const fs::path& gltf) {
+  if (!check_text_file(gltf, "a glTF file")) return {};
+  std::ifstream in(gltf, std::ios::binary);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return uri_files(text, gltf);
+}
+
+// A .glb's JSON chunk (the binary glTF container: a 12-byte header "glTF",
+// version, length; then the first chunk's length, type "JSON" and bytes);
+// a file that is not one, or a chunk longer than the file, names nothing
+// (read_mesh reports it).
+std::vector<fs::path> glb_files(const fs::path& glb) {
+  if (!check_regular_file(glb, "a mesh file")) return {};
+  std::ifstream in(glb, std::ios::binary);
+  unsigned char header[20];
+  if (!in.read(reinterpret_cast<char*>(header), sizeof header)) return {};
+  auto u32 = [&](int at) {
+    return std::uint32_t{header[at]} | std::uint32_t{header[at + 1]} << 8 |
+           std::uint32_t{header[at + 2]} << 16 | std::uint32_t{header[at + 3]} << 24;
+  };
+  if (std::memcmp(header, "glTF", 4) != 0 || std::memcmp(header + 16, "JSON", 4) != 0) return {};
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(glb, ec);
+  const std::uint32_t chunk = u32(12);
+  if (ec || chunk > size - sizeof header) return {};
+  std::string json(chunk, '\0');
+  if (!in.read(json.data(), chunk)) return {};
+  return uri_files(json, glb);
 }
 
 }  // namespace
@@ -130,6 +158,7 @@ std::vector<fs::path> mesh_named_files(const fs::path& mesh) {
   const std::string ext = lower_extension(mesh);
   if (ext == ".obj") return obj_files(mesh);
   if (ext == ".gltf") return gltf_files(mesh);
+  if (ext == ".glb") return glb_files(mesh);
   return {};
 }
 

@@ -1,7 +1,9 @@
 // texbake cameras check MESH --cameras PATH [--images DIR] [--json]
 // (SPEC section 9): per camera the share of the mesh's vertices in front of
 // it, inside its photo and visible, and a warning when a pose looks like a
-// convention error (bake/photo/camera_check.h).
+// convention error (bake/photo/camera_check.h); then, for a COLMAP model
+// with sparse points, whether it is in the mesh's frame (the figures of
+// bake/fit/model_alignment.h, and a warning when it is not or may not be).
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -31,6 +33,9 @@ int run_check(const CamerasArgs& a) {
   if (!mesh) return report_error(mesh.error());
   Expected<std::vector<CameraCheck>> checks = check_cameras(mesh->mesh, *photos, run);
   if (!checks) return report_mesh_error(checks.error(), a.mesh);
+  // The model's sparse points against the mesh (a COLMAP model with points3D).
+  Expected<ModelAlignment> alignment = check_model_alignment(mesh->mesh, a.cameras, run);
+  if (!alignment) return report_mesh_error(alignment.error(), a.mesh);
   std::size_t warned = 0;
   for (const CameraCheck& c : *checks) warned += !c.warnings.empty();
   if (a.json) {
@@ -50,7 +55,18 @@ int run_check(const CamerasArgs& a) {
                   100 * c.inside, 100 * c.visible);
     }
   }
+  if (!a.json && alignment->verdict != AlignmentVerdict::kNotMeasured) {
+    std::printf("model alignment: %s: %s\n", to_string(alignment->verdict),
+                alignment_figures(*alignment).c_str());
+  }
   std::fflush(stdout);
+  if (alignment->verdict == AlignmentVerdict::kMisaligned ||
+      alignment->verdict == AlignmentVerdict::kDoubtful) {
+    std::fprintf(stderr, "texbake: warning: %s: the model %s in the frame of %s: %s\n",
+                 a.cameras.c_str(),
+                 alignment->verdict == AlignmentVerdict::kMisaligned ? "is not" : "may not be",
+                 a.mesh.c_str(), alignment_figures(*alignment).c_str());
+  }
   for (const CameraCheck& c : *checks) {
     for (const std::string& w : c.warnings) {
       std::fprintf(stderr, "texbake: warning: %s: %s\n", c.name.c_str(), w.c_str());

@@ -1,178 +1,33 @@
 #include "bake/cli/geometry_flags.h"
 
-#include <algorithm>
-#include <charconv>
-#include <cmath>
-#include <string_view>
-
-#include "mesh_io/proxy_json.h"
-
 namespace texbake::cli {
 
 namespace {
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
-  return s;
-}
-
-std::vector<std::string_view> split(std::string_view s, char separator) {
-  std::vector<std::string_view> parts;
-  for (;;) {
-    const std::size_t at = s.find(separator);
-    parts.push_back(s.substr(0, at));
-    if (at == std::string_view::npos) return parts;
-    s.remove_prefix(at + 1);
+// Sets `flag` through the library, a CLI::ValidationError with its message
+// on a bad value.
+void set_or_throw(GeometryFlags& flags, const std::string& flag, const std::string& text) {
+  if (Status s = set_geometry_option(flags, flag, text); !s) {
+    throw CLI::ValidationError(s.error().message);
   }
-}
-
-// std::from_chars: locale-independent, and it reports overflow, where
-// strtod would give inf and CLI11's lexical cast would accept "nan".
-double parse_number(std::string_view text, const std::string& flag) {
-  const std::string_view t = trim(text);
-  double x = 0;
-  const char* first = t.data();
-  if (!t.empty() && t.front() == '+') ++first;  // from_chars rejects a leading '+'
-  const auto [end, ec] = std::from_chars(first, t.data() + t.size(), x);
-  if (ec == std::errc::result_out_of_range) {
-    throw CLI::ValidationError(flag, "'" + std::string(text) + "' is out of range (not finite)");
-  }
-  if (t.empty() || ec != std::errc() || end != t.data() + t.size()) {
-    throw CLI::ValidationError(flag, "'" + std::string(text) + "' is not a number");
-  }
-  if (!std::isfinite(x)) {
-    throw CLI::ValidationError(flag, "'" + std::string(text) + "' is not a finite number");
-  }
-  return x;
-}
-
-Vec3 parse_vec3(std::string_view text, const std::string& flag) {
-  const std::vector<std::string_view> parts = split(text, ',');
-  if (parts.size() != 3) {
-    throw CLI::ValidationError(flag,
-                               "expected x,y,z (three numbers), got '" + std::string(text) + "'");
-  }
-  return {parse_number(parts[0], flag), parse_number(parts[1], flag), parse_number(parts[2], flag)};
-}
-
-std::array<Vec3, 4> parse_corners(std::string_view text, const std::string& flag) {
-  const std::vector<std::string_view> parts = split(text, ';');
-  if (parts.size() != 4) {
-    throw CLI::ValidationError(
-        flag,
-        "expected four x,y,z separated by ';' (p00;p10;p11;p01), got '" + std::string(text) + "'");
-  }
-  std::array<Vec3, 4> corners;
-  for (int i = 0; i < 4; ++i) corners[i] = parse_vec3(parts[i], flag);
-  return corners;
-}
-
-Vec3 parse_up(std::string_view text) {
-  static constexpr std::pair<std::string_view, Vec3> kAxes[] = {
-      {"x", {1, 0, 0}},   {"y", {0, 1, 0}},   {"z", {0, 0, 1}},
-      {"+x", {1, 0, 0}},  {"+y", {0, 1, 0}},  {"+z", {0, 0, 1}},
-      {"-x", {-1, 0, 0}}, {"-y", {0, -1, 0}}, {"-z", {0, 0, -1}}};
-  for (const auto& [name, v] : kAxes) {
-    if (text == name) return v;
-  }
-  throw CLI::ValidationError("--up",
-                             "expected x, y, z, -x, -y or -z, got '" + std::string(text) + "'");
-}
-
-std::string join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
-
-Error usage(const std::string& message) {
-  return make_error(ErrorCode::kInvalidArgument, message);
-}
-
-// The value of a flag of `type`, parsed from its text.
-ParamValue parse_value(ParamType type, std::string_view text, const std::string& flag) {
-  switch (type) {
-    case ParamType::kVec3:
-      return parse_vec3(text, flag);
-    case ParamType::kNumber:
-      return parse_number(text, flag);
-    case ParamType::kCorners:
-      return parse_corners(text, flag);
-  }
-  throw CLI::ValidationError(flag, "has an unknown type");
-}
-
-const char* type_name(ParamType type) {
-  switch (type) {
-    case ParamType::kVec3:
-      return "X,Y,Z";
-    case ParamType::kNumber:
-      return "NUMBER";
-    case ParamType::kCorners:
-      return "X,Y,Z;X,Y,Z;X,Y,Z;X,Y,Z";
-  }
-  return "VALUE";
-}
-
-ProxySpec spec_of_kind(const GeometryFlags& flags, ProxyKind kind) {
-  return ProxySpec{kind, flags.values, flags.up};
-}
-
-// The flags of `keys` (fields of `kind`).
-std::vector<std::string> flags_of_keys(ProxyKind kind, const std::vector<std::string>& keys) {
-  std::vector<std::string> flags;
-  for (const std::string& key : keys) flags.emplace_back(find_field(kind, key)->flag);
-  return flags;
-}
-
-// check_geometry_flags without the value checks.
-Status check_combination(const GeometryFlags& flags, bool require_proxy) {
-  const std::vector<std::string> given = given_geometry_flags(flags);
-  if (flags.kind && flags.proxy_file) return usage("--proxy and --proxy-file exclude each other");
-  if (flags.proxy_file && !given.empty()) {
-    return usage(given.front() +
-                 " cannot be combined with --proxy-file (the file holds the "
-                 "whole proxy)");
-  }
-  if (!flags.kind && !flags.proxy_file) {
-    if (require_proxy) return usage("missing --proxy KIND or --proxy-file FILE");
-    if (!given.empty()) return usage(given.front() + " needs --proxy KIND");
-    return ok_status();
-  }
-  if (flags.kind) {
-    const std::vector<std::string> allowed = flags_of_kind(*flags.kind);
-    for (const std::string& f : given) {
-      if (std::find(allowed.begin(), allowed.end(), f) == allowed.end()) {
-        return usage(f + " does not apply to --proxy " + to_string(*flags.kind) +
-                     " (its flags: " + join(allowed) + ")");
-      }
-    }
-  }
-  return ok_status();
 }
 
 }  // namespace
 
 Vec3 parse_vec3_flag(std::string_view text, const std::string& flag) {
-  return parse_vec3(text, flag);
+  Expected<Vec3> v = parse_vec3_option(text, flag);
+  if (!v) throw CLI::ValidationError(v.error().message);
+  return *v;
 }
 
 void add_geometry_flags(CLI::App& command, GeometryFlags& flags) {
   CLI::Option* kind = command.add_option_function<std::string>(
-      "--proxy",
-      [&flags](const std::string& name) {
-        flags.kind = parse_proxy_kind(name);
-        if (!flags.kind) {
-          throw CLI::ValidationError("--proxy", "unknown proxy kind '" + name +
-                                                    "' (expected sphere, cylinder, cone, disk, "
-                                                    "quad or plane)");
-        }
-      },
+      "--proxy", [&flags](const std::string& name) { set_or_throw(flags, "--proxy", name); },
       "proxy shape: sphere, cylinder, cone, disk, quad or plane");
   kind->type_name("KIND");
   CLI::Option* file = command.add_option_function<std::string>(
-      "--proxy-file", [&flags](const std::string& path) { flags.proxy_file = path; },
+      "--proxy-file",
+      [&flags](const std::string& path) { set_or_throw(flags, "--proxy-file", path); },
       "read the proxy from a JSON file (as written by texbake fit) instead of --proxy and "
       "geometry flags; map, bake and render also take a camera (\"kind\":\"camera\", SPEC "
       "section 9)");
@@ -183,95 +38,15 @@ void add_geometry_flags(CLI::App& command, GeometryFlags& flags) {
     const std::string name(p.flag);
     command
         .add_option_function<std::string>(
-            name,
-            [&flags, p, name](const std::string& s) {
-              flags.values.insert_or_assign(std::string(p.key), parse_value(p.type, s, name));
-            },
+            name, [&flags, name](const std::string& s) { set_or_throw(flags, name, s); },
             std::string(p.help))
-        ->type_name(type_name(p.type));
+        ->type_name(geometry_type_name(p.type));
   }
   command
       .add_option_function<std::string>(
-          "--up", [&flags](const std::string& s) { flags.up = parse_up(s); },
+          "--up", [&flags](const std::string& s) { set_or_throw(flags, "--up", s); },
           "default pole/axis/normal: x, y, z, -x, -y or -z (default z)")
       ->type_name("AXIS");
-}
-
-Vec3 up_direction(const GeometryFlags& flags) {
-  return flags.up.value_or(Vec3{0, 0, 1});
-}
-
-std::vector<std::string> given_geometry_flags(const GeometryFlags& flags) {
-  std::vector<std::string> given;
-  for (const GeometryParam& p : geometry_params()) {
-    if (flags.values.contains(p.key)) given.emplace_back(p.flag);
-  }
-  if (flags.up) given.push_back("--up");
-  return given;
-}
-
-std::vector<std::string> flags_of_kind(ProxyKind kind) {
-  std::vector<std::string> flags;
-  bool has_direction = false;
-  for (const ParamField& f : proxy_fields(kind)) {
-    flags.emplace_back(f.flag);
-    has_direction |= is_direction(f.role);
-  }
-  if (has_direction) flags.push_back("--up");
-  return flags;
-}
-
-std::vector<std::string> missing_geometry_flags(const GeometryFlags& flags, ProxyKind kind) {
-  return flags_of_keys(kind, missing_fields(spec_of_kind(flags, kind)));
-}
-
-ProxySpec spec_from_flags(const GeometryFlags& flags) {
-  return spec_of_kind(flags, flags.kind.value());
-}
-
-Status check_geometry_flags(const GeometryFlags& flags, bool require_proxy) {
-  if (Status s = check_combination(flags, require_proxy); !s) return s;
-  if (flags.kind && !missing_geometry_flags(flags, *flags.kind).empty()) {
-    return check_given_values(spec_from_flags(flags), ParamNaming::kFlag);
-  }
-  return ok_status();
-}
-
-Expected<ProxyParams> params_from_flags(const GeometryFlags& flags, ProxyKind kind) {
-  const std::vector<std::string> missing = missing_geometry_flags(flags, kind);
-  if (!missing.empty()) {
-    std::vector<std::string> required;
-    for (const ParamField& f : proxy_fields(kind)) {
-      if (f.required) required.emplace_back(f.flag);
-    }
-    return usage("missing " + missing.front() + " for --proxy " + to_string(kind) + " (needs " +
-                 join(required) + ")");
-  }
-  return params_from_spec(spec_of_kind(flags, kind), ParamNaming::kFlag);
-}
-
-Expected<ProxyParams> merge_flags(const GeometryFlags& flags, ProxyParams fitted) {
-  if (flags.kind && kind_of(fitted) != *flags.kind) {
-    return usage(std::string("fitted proxy is a ") + to_string(kind_of(fitted)) +
-                 ", not the --proxy " + to_string(*flags.kind));
-  }
-  return merge_spec(spec_of_kind(flags, kind_of(fitted)), std::move(fitted), ParamNaming::kFlag);
-}
-
-Expected<Projector> projector_from_flags(const GeometryFlags& flags) {
-  if (Status s = check_combination(flags, /*require_proxy=*/true); !s) return s.error();
-  if (flags.proxy_file) return read_projector_file(*flags.proxy_file);
-  Expected<Proxy> proxy = proxy_from_flags(flags);
-  if (!proxy) return proxy.error();
-  return Projector{*proxy};
-}
-
-Expected<Proxy> proxy_from_flags(const GeometryFlags& flags) {
-  if (Status s = check_combination(flags, /*require_proxy=*/true); !s) return s.error();
-  if (flags.proxy_file) return read_proxy_file(*flags.proxy_file);
-  Expected<ProxyParams> params = params_from_flags(flags, *flags.kind);
-  if (!params) return params.error();
-  return make_proxy(*params, ParamNaming::kFlag);
 }
 
 }  // namespace texbake::cli

@@ -221,5 +221,6 @@ void bind_bake(py::module_& m);     // Atlas, bake_vertex, bake_atlas, defaults
 void bind_photos(py::module_& m);   // photo, camera and layers bakes, check_cameras
 void bind_render(py::module_& m);   // render, compare
 void bind_writers(py::module_& m);  // write_vertex_colors, write_atlas, write_image
+void bind_jobs(py::module_& m);     // job_options, run_job, run_batch
 
 }  // namespace texbake::python

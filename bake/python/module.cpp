@@ -9,7 +9,8 @@
 // One file per concept: bind_mesh.cpp (Mesh, read_mesh, read_image),
 // bind_proxy.cpp (Proxy, fit, map), bind_bake.cpp (the proxy bakes, Atlas,
 // defaults), bind_photos.cpp (photos, camera proxies, layers, cameras
-// check), bind_render.cpp (render, compare), bind_writers.cpp (writers).
+// check), bind_render.cpp (render, compare), bind_writers.cpp (writers),
+// bind_jobs.cpp (the option table, run_job, run_batch).
 #include "bake/python/common.h"
 
 PYBIND11_MODULE(_texbake, m) {
@@ -23,4 +24,5 @@ PYBIND11_MODULE(_texbake, m) {
   tp::bind_photos(m);
   tp::bind_render(m);
   tp::bind_writers(m);
+  tp::bind_jobs(m);
 }

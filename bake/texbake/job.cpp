@@ -12,6 +12,7 @@
 #include "mesh_io/file_name.h"
 #include "mesh_io/mesh_texture.h"
 #include "mesh_io/proxy_json.h"
+#include "texbake/job_options.h"
 #include "texbake/report.h"
 
 namespace texbake {
@@ -66,22 +67,7 @@ class JobRun {
     return error;
   }
 
-  // The files of the job: the outputs (-o and, for an atlas .obj, its
-  // material and image, the report) and `inputs`' own.
-  JobFileNames files() const {
-    JobFileNames f;
-    f.mesh = job_.mesh;
-    f.texture = job_.texture;
-    f.proxy_file = job_.proxy_file;
-    f.cameras = job_.cameras;
-    f.images = job_.images;
-    f.layers = job_.layers;
-    f.output = job_.output;
-    f.atlas = atlas();
-    f.write = job_.write;
-    f.report = job_.report;
-    return f;
-  }
+  JobFileNames files() const { return job_file_names(job_); }
 
   // Before any file is read: the writer's options, no output an input or
   // another output, every output writable.
@@ -117,6 +103,16 @@ class JobRun {
     const auto stage = Clock::now();
     if (Status s = write_atlas(job_.output, baked, job_.write); !s) return s;
     result_.outputs = atlas_files(job_.output, job_.write);
+    return write_report_of(make_report(seconds_since(stage)));
+  }
+
+  // Writes the vertex colours, then the report made by make_report(write seconds).
+  template <class MakeReport>
+  Status write_vertex_set(const MeshData& mesh, const std::vector<Rgba>& colors,
+                          MakeReport make_report) {
+    const auto stage = Clock::now();
+    if (Status s = write_vertex_colors(job_.output, mesh, colors, job_.write); !s) return s;
+    result_.outputs = {job_.output};
     return write_report_of(make_report(seconds_since(stage)));
   }
 
@@ -251,15 +247,16 @@ class JobRun {
         bake_vertex_colors(mesh->mesh, std::move(*image), *proxy, job_.shading, run);
     if (!baked) return mesh_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
-    stage = Clock::now();
-    if (Status s = write_vertex_colors(job_.output, mesh->mesh, baked->colors, job_.write); !s) {
+    report_.stats = result_.stats = baked->stats;
+    if (Status s = write_vertex_set(mesh->mesh, baked->colors,
+                                    [&](double write) {
+                                      report_.write = write;
+                                      report_.total = seconds_since(start_);
+                                      return report_json(report_);
+                                    });
+        !s) {
       return s;
     }
-    result_.outputs = {job_.output};
-    report_.write = seconds_since(stage);
-    report_.stats = result_.stats = baked->stats;
-    report_.total = seconds_since(start_);
-    if (Status s = write_report_of(report_json(report_)); !s) return s;
     const Counts& c = baked->stats.counts;
     summarise("baked %zu vertices (%zu occluded, %zu filled, %zu unfilled, %zu outside samples)",
               c.vertices, c.occluded, c.filled, c.unfilled, c.outside);
@@ -277,6 +274,39 @@ class JobRun {
     return mesh_error(error);
   }
 
+  // A COLMAP model's sparse points against the mesh (check_model_alignment):
+  // misaligned, an error naming the way out; doubtful, a warning; aligned,
+  // a note with the figures.
+  Status check_alignment(const MeshData& mesh) {
+    if (job_.photo) return ok_status();
+    return check_alignment(mesh, job_.cameras);
+  }
+  Status check_alignment(const MeshData& mesh, const fs::path& cameras) {
+    if (!job_.alignment_check) return ok_status();
+    Expected<ModelAlignment> a = check_model_alignment(mesh, cameras, run_options());
+    if (!a) return mesh_error(a.error());
+    const std::string model = cameras.string();
+    switch (a->verdict) {
+      case AlignmentVerdict::kNotMeasured:
+        break;
+      case AlignmentVerdict::kMisaligned:
+        return make_error(ErrorCode::kParse,
+                          model + ": the model is not in the frame of " + job_.mesh.string() +
+                              ": " + alignment_figures(*a) +
+                              ". Align it to the mesh first (e.g. COLMAP's model_aligner with "
+                              "known camera centres), or bake anyway with --no-alignment-check");
+      case AlignmentVerdict::kDoubtful:
+        warn(model + ": the model may not be in the frame of " + job_.mesh.string() + ": " +
+             alignment_figures(*a) + " (--no-alignment-check: no check)");
+        break;
+      case AlignmentVerdict::kAligned:
+        if (job_.on_note)
+          job_.on_note("model " + model + " is in the mesh's frame: " + alignment_figures(*a));
+        break;
+    }
+    return ok_status();
+  }
+
   Status run_photos() {
     if (Status s = check_files(); !s) return s;
     auto stage = Clock::now();
@@ -286,6 +316,7 @@ class JobRun {
     if (!photos) return photos.error();
     Expected<LoadedMesh> mesh = read_job_mesh();
     if (!mesh) return mesh.error();
+    if (Status s = check_alignment(mesh->mesh); !s) return s;
     const double load = seconds_since(stage);
     PhotoBakeOptions options = job_.photo_options;
     if (job_.photo) options = camera_proxy_options(options);
@@ -316,13 +347,11 @@ class JobRun {
     if (!baked) return photo_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
     result_.stats = baked->stats;
-    stage = Clock::now();
-    if (Status s = write_vertex_colors(job_.output, mesh->mesh, baked->colors, job_.write); !s) {
-      return s;
-    }
-    result_.outputs = {job_.output};
-    const double write = seconds_since(stage);
-    if (Status s = write_report_of(photo_report(job_, *baked, load, write, seconds_since(start_)));
+    if (Status s = write_vertex_set(mesh->mesh, baked->colors,
+                                    [&](double write) {
+                                      return photo_report(job_, *baked, load, write,
+                                                          seconds_since(start_));
+                                    });
         !s) {
       return s;
     }
@@ -345,6 +374,11 @@ class JobRun {
       // Nor the base texture, named by the mesh.
       const std::vector<NamedFile> read{{"the texture of MESH", mesh->mesh.texture_path}};
       if (Status s = check_distinct_files(read, job_outputs(files())); !s) return s;
+    }
+    // Each "cameras" layer's model, as a photo bake's.
+    for (const LayerSpec& layer : spec->layers) {
+      if (layer.cameras.empty()) continue;
+      if (Status s = check_alignment(mesh->mesh, layer.cameras); !s) return s;
     }
     const double load = seconds_since(stage);
     LayersBakeOptions options = job_.layers_options;
@@ -385,13 +419,11 @@ class JobRun {
     if (!baked) return mesh_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
     result_.stats = baked->stats;
-    stage = Clock::now();
-    if (Status s = write_vertex_colors(job_.output, mesh->mesh, baked->colors, job_.write); !s) {
-      return s;
-    }
-    result_.outputs = {job_.output};
-    const double write = seconds_since(stage);
-    if (Status s = write_report_of(layers_report(job_, *baked, load, write, seconds_since(start_)));
+    if (Status s = write_vertex_set(mesh->mesh, baked->colors,
+                                    [&](double write) {
+                                      return layers_report(job_, *baked, load, write,
+                                                           seconds_since(start_));
+                                    });
         !s) {
       return s;
     }

@@ -56,6 +56,11 @@ struct Job {
   // ... or one photo (`texture`) through the camera of a camera proxy_file.
   std::optional<Photo> photo;
   PhotoBakeOptions photo_options;  // photo bakes: blend, exposure, occluded, colour space, strict
+  // Photo bakes of a COLMAP model (and a layers file's "cameras" layers):
+  // its sparse points against the mesh first
+  // (check_model_alignment): a misaligned model is an error (kParse, exit
+  // 1) that says so, a doubtful one a warning; false bakes without looking.
+  bool alignment_check = true;
 
   // Or several projections over a base from a layers file (SPEC section 10).
   std::filesystem::path layers;

@@ -215,4 +215,15 @@ Expected<std::vector<CameraCheck>> check_cameras(const MeshData& mesh,
       });
 }
 
+Expected<ModelAlignment> check_model_alignment(const MeshData& mesh, const fs::path& cameras,
+                                               const RunOptions& run) {
+  std::error_code ec;
+  if (!fs::is_directory(cameras, ec)) return ModelAlignment{};  // a JSON list has no points
+  Expected<std::vector<Vec3>> points = read_colmap_points(cameras);
+  if (!points) return points.error();
+  Expected<ModelAlignment> a = measure_model_alignment(mesh, *points, run.threads);
+  if (!a) return detail::as_input(a.error());
+  return a;
+}
+
 }  // namespace texbake

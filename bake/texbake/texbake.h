@@ -60,6 +60,7 @@
 
 #include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
 #include "bake/atlas/bake_atlas.h"
+#include "bake/fit/model_alignment.h"
 #include "bake/layers/layers_bake.h"
 #include "bake/photo/camera_check.h"
 #include "bake/photo/photo_atlas.h"
@@ -379,6 +380,17 @@ Expected<std::vector<CameraCheck>> check_cameras(const MeshData& mesh,
                                                  const std::vector<Photo>& photos,
                                                  const RunOptions& run = {});
 
+// Is the camera model at `cameras` in the frame of `mesh`? Its sparse points
+// (a COLMAP model's points3D, read_colmap_points) against the mesh's
+// surface, with the figures and verdict of bake/fit/model_alignment.h; a
+// JSON camera list or a model without points is kNotMeasured. Every photo
+// bake of a COLMAP model runs it first (a misaligned model is an error,
+// Job::alignment_check), and `texbake cameras check` prints it. Errors:
+// read_colmap_points', kInput (a mesh with no non-degenerate triangle).
+Expected<ModelAlignment> check_model_alignment(const MeshData& mesh,
+                                               const std::filesystem::path& cameras,
+                                               const RunOptions& run = {});
+
 // ---- Layers (SPEC section 10) ---------------------------------------------
 
 // Reads a layers file (mesh_io/layers_json.h: keys, defaults, paths relative
@@ -649,9 +661,10 @@ struct JobFileNames {
 
 // Every file the job reads, paths as given: MESH "MESH" and the files it
 // names ("a file MESH names:", mesh_io/mesh_files.h: an OBJ's material
-// libraries and textures, a .gltf's buffers and images), --texture,
-// --proxy-file, the camera files of --cameras (camera_files), the layers
-// file and what it names (layers_files), the batch's jobs file "JOBS".
+// libraries and textures, a .gltf's or .glb's external buffers and
+// images), --texture, --proxy-file, the camera files of --cameras
+// (camera_files), the layers file and what it names (layers_files), the
+// batch's jobs file "JOBS".
 // A layers file or camera model that cannot be read adds what could be
 // listed: the job then fails reading it, before it writes anything.
 std::vector<NamedFile> job_inputs(const JobFileNames& job);

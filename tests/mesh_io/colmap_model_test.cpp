@@ -450,5 +450,73 @@ TEST_F(ColmapModel, MissingModelsAreIoErrors) {
   EXPECT_EQ(folder.error().code, ErrorCode::kIo);
 }
 
+// The sparse points (read_colmap_points): X Y Z of each line or record,
+// colours, errors and tracks skipped; the binary file when the model is binary.
+TEST_F(ColmapModel, SparsePointsAreReadFromTextAndBinary) {
+  write("cameras.txt", kCamerasTxt);
+  write("images.txt", kImagesTxt);
+  EXPECT_TRUE(read_colmap_points(dir_).value().empty());  // no points3D: none
+  write("points3D.txt",
+        "# 3D point list with one line of data per point:\n"
+        "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
+        "1 0.5 -1.25 3 255 0 0 0.7 7 0 3 1\n"
+        "\n"
+        "2 1e-3 2 -4.5 10 20 30 1.5\n");
+  Expected<std::vector<Vec3>> text = read_colmap_points(dir_);
+  ASSERT_TRUE(text) << text.error().message;
+  EXPECT_EQ(*text, (std::vector<Vec3>{{0.5, -1.25, 3}, {1e-3, 2, -4.5}}));
+
+  // The same two points in points3D.bin, beside a binary model: read instead.
+  write("cameras.bin", cameras_bin());
+  write("images.bin", images_bin());
+  std::string b;
+  put<uint64_t>(b, 2);
+  put<uint64_t>(b, 1);
+  for (double v : {0.5, -1.25, 3.0}) put(b, v);
+  b += std::string("\xff\x00\x00", 3);
+  put(b, 0.7);
+  put<uint64_t>(b, 2);
+  for (uint32_t v : {7u, 0u, 3u, 1u}) put(b, v);
+  put<uint64_t>(b, 2);
+  for (double v : {1e-3, 2.0, -4.5}) put(b, v);
+  b += std::string("\x0a\x14\x1e", 3);
+  put(b, 1.5);
+  put<uint64_t>(b, 0);
+  write("points3D.bin", b);
+  Expected<std::vector<Vec3>> binary = read_colmap_points(dir_);
+  ASSERT_TRUE(binary) << binary.error().message;
+  EXPECT_EQ(*binary, *text);
+
+  // Truncated in the second record's track, or trailing bytes: errors naming the file.
+  write("points3D.bin", b.substr(0, b.size() - 4));
+  Expected<std::vector<Vec3>> cut = read_colmap_points(dir_);
+  ASSERT_FALSE(cut);
+  EXPECT_NE(cut.error().message.find("points3D.bin: truncated in record 1"), std::string::npos)
+      << cut.error().message;
+  write("points3D.bin", b + "x");
+  Expected<std::vector<Vec3>> trailing = read_colmap_points(dir_);
+  ASSERT_FALSE(trailing);
+  EXPECT_NE(trailing.error().message.find("trailing bytes"), std::string::npos);
+  // A count that the file cannot hold is refused before anything is allocated.
+  std::string huge;
+  put<uint64_t>(huge, uint64_t{1} << 60);
+  write("points3D.bin", huge);
+  EXPECT_FALSE(read_colmap_points(dir_));
+}
+
+TEST_F(ColmapModel, BadSparsePointLinesNameTheLine) {
+  write("cameras.txt", kCamerasTxt);
+  write("images.txt", kImagesTxt);
+  for (const char* line :
+       {"1 0 0\n", "1 0 nan 0 1 2 3 0\n", "1 0 1e999 0 1 2 3 0\n", "x 0 0 0 1 2 3 0\n"}) {
+    write("points3D.txt", std::string("# header\n") + line);
+    Expected<std::vector<Vec3>> p = read_colmap_points(dir_);
+    ASSERT_FALSE(p) << line;
+    EXPECT_EQ(p.error().code, ErrorCode::kParse);
+    EXPECT_NE(p.error().message.find("points3D.txt line 2"), std::string::npos)
+        << p.error().message;
+  }
+}
+
 }  // namespace
 }  // namespace texbake

@@ -1,10 +1,11 @@
-// mesh_named_files (mesh_io/mesh_files.h): the files an OBJ and a .gltf
-// name, written out by hand, wherever they sit in the file.
+// mesh_named_files (mesh_io/mesh_files.h): the files an OBJ, a .gltf and
+// a .glb name, written out by hand, wherever they sit in the file.
 #include "mesh_io/mesh_files.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -59,6 +60,32 @@ TEST_F(MeshFiles, AGltfNamesItsExternalBuffersAndImagesButNotDataUris) {
   write("i.png", "x");
   std::vector<fs::path> got = mesh_named_files(dir_ / "g.gltf");
   EXPECT_EQ(got, (std::vector<fs::path>{dir_ / "b 1.bin", dir_ / "i.png"}));
+}
+
+// A .glb whose JSON chunk names an external image and buffer (a binary
+// glTF may; most embed them), laid out by hand: the 12-byte header
+// "glTF", 2, total length; the chunk's length, "JSON", the text padded
+// with spaces to 4 bytes.
+TEST_F(MeshFiles, AGlbNamesTheExternalFilesOfItsJsonChunk) {
+  std::string json = R"({"asset":{"version":"2.0"},"buffers":[{"uri":"ext.bin"}],)"
+                     R"("images":[{"uri":"tex%20a.png"}]})";
+  while (json.size() % 4) json += ' ';
+  auto le32 = [](std::uint32_t v) {
+    return std::string{static_cast<char>(v & 255), static_cast<char>((v >> 8) & 255),
+                       static_cast<char>((v >> 16) & 255), static_cast<char>(v >> 24)};
+  };
+  const std::uint32_t total = 12 + 8 + static_cast<std::uint32_t>(json.size());
+  write("m.glb", "glTF" + le32(2) + le32(total) + le32(json.size()) + "JSON" + json);
+  write("ext.bin", "abcd");
+  write("tex a.png", "x");
+  EXPECT_EQ(mesh_named_files(dir_ / "m.glb"),
+            (std::vector<fs::path>{dir_ / "ext.bin", dir_ / "tex a.png"}));
+  // A chunk that claims more than the file holds, or a file that is not a
+  // binary glTF, names nothing.
+  write("long.glb", "glTF" + le32(2) + le32(total) + le32(1u << 30) + "JSON" + json);
+  write("text.glb", "solid not a glb\n");
+  EXPECT_TRUE(mesh_named_files(dir_ / "long.glb").empty());
+  EXPECT_TRUE(mesh_named_files(dir_ / "text.glb").empty());
 }
 
 TEST_F(MeshFiles, OtherFormatsAndUnreadableFilesNameNothing) {

@@ -160,3 +160,36 @@ def test_new_calls_release_the_gil_and_report_progress(tmp_path, workspace):
         texbake.bake_atlas_from_layers(texbake.read_mesh(DATA / "bottle.ply"),
                                        layers=DATA / "bottle_layers.json", size=32,
                                        progress=lambda s, f: False)
+
+
+@pytest.mark.parametrize("name", ["p.ply", "p.obj"])
+def test_run_job_from_photos_gives_the_cli_files(tmp_path, workspace, name):
+    """texbake.run_job with cameras= is `texbake bake --cameras`, either target."""
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    size = ["--size", "64"] if name.endswith(".obj") else []
+    r = run_cli("bake", BUNNY, "--cameras", workspace / "sparse" / "0", *size, "--blend", "best",
+                "-q", "--threads", "2", "-o", tmp_path / "cli" / name)
+    assert r.returncode == 0, r.stderr
+    extra = dict(size=64) if name.endswith(".obj") else {}
+    result = texbake.run_job(BUNNY, tmp_path / "py" / name, cameras=workspace / "sparse" / "0",
+                             blend="best", threads=1, **extra)
+    assert result["report"]["counts"]
+    keys = {o["key"] for o in texbake.JOB_OPTIONS}
+    assert set(result["report"]["inputs"]["options"]) <= keys
+    assert result["report"]["inputs"]["options"]["blend"] == "best"
+    for a, b in zip(sorted((tmp_path / "cli").iterdir()), sorted((tmp_path / "py").iterdir())):
+        assert a.name == b.name  # an OBJ names its MTL by the same name: equal too
+        assert a.read_bytes() == b.read_bytes(), a.name
+
+
+def test_run_job_through_a_camera_proxy_gives_the_cli_ply(tmp_path, workspace):
+    camera, photo = camera_file(workspace, tmp_path, 1)
+    cli_out, py_out = tmp_path / "cli.ply", tmp_path / "py.ply"
+    r = run_cli("bake", BUNNY, "--texture", photo, "--proxy-file", camera, "-q", "-o", cli_out)
+    assert r.returncode == 0, r.stderr
+    texbake.run_job(BUNNY, py_out, texture=photo, proxy_file=camera)
+    assert cli_out.read_bytes() == py_out.read_bytes()
+    # A flag that does not apply to a camera: the command line's refusal.
+    with pytest.raises(ValueError, match="--filter does not apply to a camera --proxy-file"):
+        texbake.run_job(BUNNY, py_out, texture=photo, proxy_file=camera, filter="ewa")

@@ -70,7 +70,15 @@ __all__ = [
     "bake_vertex_from_photos", "check_cameras", "compare", "fit", "map", "read_image",
     "read_mesh", "render",
     "write_atlas", "write_image", "write_vertex_colors",
+    "JOB_OPTIONS", "run_batch", "run_job",
 ]
+
+#: The options of a whole job (run_job, run_batch, `texbake bake`'s flags and
+#: a batch line's keys): one table in the library, each a dict with "key"
+#: (the keyword), "flag" (the command line's), "type", "value_name",
+#: "default", "range", "bakes" (where it applies: "proxy vertex", "photos
+#: atlas", ...) and "help".
+JOB_OPTIONS = tuple(_texbake.job_options())
 
 #: Names of the codes in map()'s `status` array: 0 ok, 1 outside (beyond the
 #: proxy's (u, v) domain; uv unclamped), 2 undefined (no mapping).
@@ -526,3 +534,73 @@ def write_image(path, image, bits=8, compression=6):
     8-bit (bits=8) or 16-bit (bits=16), EXR float (bits=32); values clamped
     to [0, 1] for integer formats; `compression` is PNG's zlib level 0..9."""
     _texbake.write_image(path, image, bits, compression)
+
+
+def _job_value(key, value):
+    """A keyword argument as its JSON value in a job object."""
+    import os
+    if isinstance(value, (str, bool, int, float)) or value is None:
+        return value
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if isinstance(value, _np.generic):
+        return value.item()
+    if isinstance(value, _np.ndarray):
+        return value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_job_value(key, v) for v in value]
+    raise ValueError(f"{key}: {value!r} is not a value of a job option (a str, path, number, "
+                     "bool or sequence of numbers)")
+
+
+def _job_json(settings):
+    """The JSON object of a job's keyword arguments (None: not given)."""
+    return _json.dumps({k: _job_value(k, v) for k, v in settings.items() if v is not None})
+
+
+def run_job(mesh, output, progress=None, **options):
+    """Runs one whole job as `texbake bake MESH -o OUTPUT ...` and a batch line do:
+    reads the files, fits what is not given, bakes, writes the outputs
+    atomically (and the report when `report` is given) and returns what it
+    did: a dict with "outputs" (the files written), "warnings", "fitted" (the
+    proxy's flags filled by the fit), "report" (the report as a dict),
+    "summary" (the command line's last line) and "seconds".
+
+    `options` are the job options by their keys (texbake.JOB_OPTIONS; the
+    command line's long flags with "_" for "-"), with the same defaults,
+    ranges and messages: texture="earth.jpg", proxy="sphere",
+    center=(0, 0, 0), samples=8, linear=True, cameras="sparse/0",
+    layers="layers.json", target="atlas", report="r.json", threads=2, ...
+    A flag is True or False, a vector a sequence of 3 numbers, corners 4 of
+    them; None is "not given". The outputs equal the command line's bytes.
+
+        texbake.run_job("bunny.ply", "bunny.glb", texture="earth.jpg",
+                        proxy="sphere", up="y", target="atlas", size=1024)
+    """
+    result = _texbake.run_job(_job_json({"mesh": mesh, "output": output, **options}), progress)
+    result["report"] = _json.loads(result["report"]) if result["report"] else None
+    return result
+
+
+def run_batch(jobs, results=None, fail_fast=False, skip_existing=False, threads=0):
+    """Runs many jobs as `texbake batch` does: `jobs` is a sequence of dicts of
+    run_job's keywords ("mesh" and "output" among them). Jobs run in order;
+    a failing job is recorded and the others run (fail_fast: stop at the
+    first failure); skip_existing skips a job whose outputs exist and are
+    not older than its inputs; `threads` is the thread count of a job
+    without "threads". `results`, when given, is a file that gets each job's
+    line as soon as the job ends (as `texbake batch --results`).
+
+    Returns a dict: "jobs" (per job: "line" (its index + 1), "status" ("ok",
+    "failed", "skipped"), "exit", "error", "warnings", "outputs", "target",
+    "counts", "timings", "seconds"), "ok", "failed", "skipped", "not_run",
+    "seconds". A job's bad option is that job's error, never an exception;
+    ValueError only for a bad argument of run_batch itself, OSError when
+    `results` cannot be written.
+    """
+    texts = [_job_json(dict(job)) for job in jobs]
+    batch = _texbake.run_batch(texts, results=None if results is None else str(results),
+                               fail_fast=fail_fast, skip_existing=skip_existing,
+                               threads=threads)
+    batch["jobs"] = [_json.loads(line) for line in batch["jobs"]]
+    return batch
