@@ -1,0 +1,44 @@
+// The camera files `--cameras` takes besides a COLMAP model folder (SPEC
+// section 9, "Formats"), told apart by their content, not their name:
+//   texbake's JSON camera list   {"cameras": [...]}   (mesh_io/camera_json.h)
+//   nerfstudio / instant-ngp     {"frames": [...]}     (mesh_io/nerfstudio_json.h)
+// Each is read into texbake's one camera form (mapping/camera.h: COLMAP's
+// models, OpenCV axes, world-to-camera) with the photo's name as the file
+// gives it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mapping/error.h"
+#include "mesh_io/camera_json.h"
+
+namespace texbake {
+
+enum class CameraFormat { kCameraList, kNerfstudio };
+
+// "texbake camera list", "nerfstudio transforms.json".
+std::string_view camera_format_name(CameraFormat format);
+
+struct CameraFile {
+  CameraFormat format = CameraFormat::kCameraList;
+  // In file order; each image as written (relative to the file's folder
+  // unless absolute).
+  std::vector<CameraListEntry> cameras;
+  // What the reader did that the user must know, one sentence each, e.g.
+  // that a nerfstudio file's applied_transform was undone.
+  std::vector<std::string> notes;
+};
+
+// Reads `path`, a camera file of any format above. Errors (kParse; kIo when
+// the file cannot be read) start with the path: a JSON object that is none
+// of the formats ("not a camera file texbake reads: ..."), and each
+// format's own.
+Expected<CameraFile> read_camera_file(const std::filesystem::path& path);
+
+// The same from text; errors start with `source`.
+Expected<CameraFile> camera_file_from_text(std::string_view text, const std::string& source);
+
+}  // namespace texbake
