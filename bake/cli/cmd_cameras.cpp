@@ -2,12 +2,19 @@
 // (SPEC section 9): per camera the share of the mesh's vertices in front of
 // it, inside its photo and visible, and a warning when a pose looks like a
 // convention error (bake/photo/camera_check.h).
+// texbake cameras convert IN -o OUT [--binary]: any camera format --cameras
+// reads, written as a COLMAP model (mesh_io/colmap_model.h's writer, the one
+// render --colmap uses).
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <system_error>
 
 #include "bake/cli/commands.h"
+#include "mesh_io/atomic_file.h"
+#include "mesh_io/camera_formats.h"
+#include "mesh_io/colmap_model.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -20,11 +27,23 @@ struct CamerasArgs {
   int threads = 0;
 };
 
+struct ConvertArgs {
+  std::string input, output;
+  bool binary = false;
+};
+
+void print_notes(const std::vector<std::string>& notes) {
+  for (const std::string& n : notes) std::fprintf(stderr, "texbake: %s\n", n.c_str());
+}
+
 int run_check(const CamerasArgs& a) {
   // Only the poses and photo sizes are needed, which the model holds: no
   // photos folder (and no photo) is needed.
-  Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images, PhotoFolder::kNotNeeded);
+  std::vector<std::string> notes;
+  Expected<std::vector<Photo>> photos =
+      read_cameras(a.cameras, a.images, PhotoFolder::kNotNeeded, &notes);
   if (!photos) return report_error(photos.error());
+  print_notes(notes);
   RunOptions run;
   run.threads = a.threads;
   Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
@@ -59,12 +78,78 @@ int run_check(const CamerasArgs& a) {
   return 0;
 }
 
+int run_convert(const ConvertArgs& a) {
+  namespace fs = std::filesystem;
+  const fs::path out = a.output;
+  // The model's files, and those of the other form, which the write
+  // removes: none may be an input (converting a model into its own folder).
+  std::vector<NamedFile> written;
+  for (const char* stem : {"cameras", "images", "points3D"}) {
+    for (const char* ext : {".txt", ".bin"}) {
+      written.push_back({"-o", out / (std::string(stem) + ext)});
+    }
+  }
+  if (Status s = check_distinct_files(camera_files(a.input, {}, "IN"), written); !s) {
+    return report_error(s.error());
+  }
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "-o " + out.string() + " is a file: -o names the COLMAP model's folder");
+  }
+  std::vector<ColmapImage> images;
+  std::vector<std::string> notes;
+  std::string format = "COLMAP model";
+  if (fs::is_directory(a.input, ec)) {
+    // Read as COLMAP stores it, image ids kept.
+    Expected<std::vector<ColmapImage>> model = read_colmap_model(a.input);
+    if (!model) return report_error(model.error());
+    images = std::move(model).value();
+  } else {
+    Expected<CameraFile> file = read_camera_file(a.input);
+    if (!file) return report_error(file.error());
+    format = camera_format_name(file->format);
+    notes = std::move(file->notes);
+    uint32_t id = 0;
+    for (CameraListEntry& entry : file->cameras) {
+      ++id;
+      images.push_back({id, 0, std::move(entry.image), std::move(entry.camera)});
+    }
+    const fs::path base = fs::path(a.input).parent_path();
+    notes.push_back("the images' names are as " + a.input + " gives them, relative to " +
+                    (base.empty() ? std::string(".") : base.string()) + ": bake with --cameras " +
+                    out.string() + " --images " +
+                    (base.empty() ? std::string(".") : base.string()));
+  }
+  // A name the model cannot hold: a line break or NUL ends a record, and
+  // the text form's reader trims blanks at the name's ends.
+  for (const ColmapImage& image : images) {
+    const std::string& n = image.name;
+    const bool blank_end = std::string(" \t").find(n.front()) != std::string::npos ||
+                           std::string(" \t").find(n.back()) != std::string::npos;
+    if (n.find_first_of(std::string("\n\r\0", 3)) != std::string::npos ||
+        (!a.binary && blank_end)) {
+      return report_error(ErrorCode::kParse, a.input + ": the image name '" + image.name +
+                                                 "' cannot be written in a COLMAP model");
+    }
+  }
+  if (Status s = write_colmap_model(out, images, a.binary); !s) return report_error(s.error());
+  print_notes(notes);
+  std::printf(
+      "converted %zu images from a %s into a COLMAP model: %s (%s)\n", images.size(),
+      std::string(format).c_str(), out.string().c_str(),
+      a.binary ? "cameras.bin, images.bin, points3D.bin" : "cameras.txt, images.txt, points3D.txt");
+  return 0;
+}
+
 }  // namespace
 
 RunFunction add_cameras_command(CLI::App& app) {
   auto args = std::make_shared<CamerasArgs>();
-  CLI::App* cmd = app.add_subcommand("cameras", "Inspect calibrated cameras against a mesh.");
+  CLI::App* cmd = app.add_subcommand(
+      "cameras", "Check calibrated cameras against a mesh, or convert them to a COLMAP model.");
   cmd->require_subcommand(1);
+  auto convert_args = std::make_shared<ConvertArgs>();
   CLI::App* check = cmd->add_subcommand(
       "check",
       "Per camera: the share of the mesh's vertices in front of it, inside its photo and "
@@ -74,7 +159,8 @@ RunFunction add_cameras_command(CLI::App& app) {
       ->required();
   check
       ->add_option("--cameras", args->cameras,
-                   "a COLMAP sparse model folder or a JSON camera list (as bake --cameras)")
+                   "a COLMAP sparse model folder or a camera file: a JSON camera list or a "
+                   "nerfstudio / instant-ngp transforms.json (as bake --cameras)")
       ->required();
   check->add_option("--images", args->images,
                     "the photos' folder (not needed: the check reads no photo; accepted as in "
@@ -82,7 +168,24 @@ RunFunction add_cameras_command(CLI::App& app) {
   check->add_flag("--json", args->json, "print the table as JSON");
   check->add_option("--threads", args->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
-  return [args] { return run_check(*args); };
+  CLI::App* convert = cmd->add_subcommand(
+      "convert",
+      "Write the cameras of any format --cameras reads (a COLMAP model, a JSON camera list, a "
+      "nerfstudio / instant-ngp transforms.json) as a COLMAP model: cameras, images and an "
+      "empty points3D, all written or none.");
+  convert->add_option("IN", convert_args->input, "the cameras: a COLMAP model folder or a file")
+      ->required();
+  convert
+      ->add_option("-o,--output", convert_args->output,
+                   "the COLMAP model's folder (created if missing; a model of the other form "
+                   "there is replaced)")
+      ->required();
+  convert->add_flag("--binary", convert_args->binary,
+                    "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
+  return [args, convert_args, check] {
+    if (check->parsed()) return run_check(*args);
+    return run_convert(*convert_args);
+  };
 }
 
 }  // namespace texbake::cli

@@ -7,11 +7,12 @@ namespace texbake::cli {
 void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
   cmd.add_option("--cameras", flags.cameras,
                  "bake from calibrated photos instead of --texture and a proxy: a COLMAP sparse "
-                 "model folder (cameras + images .txt or .bin) or a JSON camera list "
+                 "model folder (cameras + images .txt or .bin) or a camera file, told by its "
+                 "content: a JSON camera list or a nerfstudio / instant-ngp transforms.json "
                  "(vertex or atlas target)");
   cmd.add_option("--images", flags.images,
                  "--cameras: the photos' folder (default: a COLMAP workspace's images/ beside "
-                 "sparse/, or the JSON list's folder)");
+                 "sparse/, or the camera file's folder)");
   add_choice_option(
       cmd, "--blend", flags.blend,
       {{"soft", PhotoBlend::kSoft}, {"best", PhotoBlend::kBest}, {"mean", PhotoBlend::kMean}},
