@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "mesh_io/json_strict.h"
+#include "mesh_io/metashape_xml.h"
 #include "mesh_io/nerfstudio_json.h"
 #include "mesh_io/regular_file.h"
 
@@ -15,13 +16,20 @@ std::string_view camera_format_name(CameraFormat format) {
       return "texbake camera list";
     case CameraFormat::kNerfstudio:
       return "nerfstudio transforms.json";
+    case CameraFormat::kMetashape:
+      return "Metashape cameras.xml";
   }
   return "camera file";
 }
 
 Expected<CameraFile> camera_file_from_text(std::string_view text, const std::string& source) {
-  // The format is told by the top-level keys; the reader of that format
-  // then checks everything (and parses again: camera files are small).
+  // XML (after blanks and a UTF-8 byte order mark): Metashape's.
+  std::size_t first = text.rfind("\xEF\xBB\xBF", 0) == 0 ? 3 : 0;
+  first = text.find_first_not_of(" \t\r\n", first);
+  if (first != std::string_view::npos && text[first] == '<')
+    return metashape_from_xml(text, source);
+  // JSON: the format is told by the top-level keys; the reader of that
+  // format then checks everything (and parses again: camera files are small).
   Expected<nlohmann::json> root = parse_json_object(text, source);
   if (!root) return root.error();
   if (root->contains("frames")) return nerfstudio_from_json(text, source);
@@ -30,11 +38,18 @@ Expected<CameraFile> camera_file_from_text(std::string_view text, const std::str
     if (!list) return list.error();
     return CameraFile{CameraFormat::kCameraList, std::move(list).value(), {}};
   }
-  return make_error(ErrorCode::kParse,
-                    source +
-                        ": not a camera file texbake reads: a texbake camera list has the key "
-                        "'cameras', a nerfstudio / instant-ngp transforms.json 'frames' (a COLMAP "
-                        "model is given as its folder)");
+  if (root->contains("views") && (root->contains("intrinsics") || root->contains("poses"))) {
+    return make_error(ErrorCode::kParse,
+                      source +
+                          ": a Meshroom / AliceVision .sfm file, which texbake does not read "
+                          "yet");
+  }
+  return make_error(
+      ErrorCode::kParse,
+      source +
+          ": not a camera file texbake reads: a texbake camera list has the key "
+          "'cameras', a nerfstudio / instant-ngp transforms.json 'frames'; a Metashape "
+          "cameras.xml is XML (a COLMAP model is given as its folder)");
 }
 
 Expected<CameraFile> read_camera_file(const std::filesystem::path& path) {

@@ -2,6 +2,7 @@
 // section 9, "Formats"), told apart by their content, not their name:
 //   texbake's JSON camera list   {"cameras": [...]}   (mesh_io/camera_json.h)
 //   nerfstudio / instant-ngp     {"frames": [...]}     (mesh_io/nerfstudio_json.h)
+//   Agisoft Metashape XML        <document><chunk>...  (mesh_io/metashape_xml.h)
 // Each is read into texbake's one camera form (mapping/camera.h: COLMAP's
 // models, OpenCV axes, world-to-camera) with the photo's name as the file
 // gives it.
@@ -17,9 +18,9 @@
 
 namespace texbake {
 
-enum class CameraFormat { kCameraList, kNerfstudio };
+enum class CameraFormat { kCameraList, kNerfstudio, kMetashape };
 
-// "texbake camera list", "nerfstudio transforms.json".
+// "texbake camera list", "nerfstudio transforms.json", "Metashape cameras.xml".
 std::string_view camera_format_name(CameraFormat format);
 
 struct CameraFile {

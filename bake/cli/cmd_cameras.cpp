@@ -158,9 +158,10 @@ RunFunction add_cameras_command(CLI::App& app) {
   check->add_option("mesh", args->mesh, "input mesh (.obj, .ply, .off, .stl, .glb, .gltf)")
       ->required();
   check
-      ->add_option("--cameras", args->cameras,
-                   "a COLMAP sparse model folder or a camera file: a JSON camera list or a "
-                   "nerfstudio / instant-ngp transforms.json (as bake --cameras)")
+      ->add_option(
+          "--cameras", args->cameras,
+          "a COLMAP sparse model folder or a camera file: a JSON camera list, a "
+          "nerfstudio / instant-ngp transforms.json or a Metashape cameras.xml (as bake --cameras)")
       ->required();
   check->add_option("--images", args->images,
                     "the photos' folder (not needed: the check reads no photo; accepted as in "
@@ -171,7 +172,8 @@ RunFunction add_cameras_command(CLI::App& app) {
   CLI::App* convert = cmd->add_subcommand(
       "convert",
       "Write the cameras of any format --cameras reads (a COLMAP model, a JSON camera list, a "
-      "nerfstudio / instant-ngp transforms.json) as a COLMAP model: cameras, images and an "
+      "nerfstudio / instant-ngp transforms.json, a Metashape cameras.xml) as a COLMAP model: "
+      "cameras, images and an "
       "empty points3D, all written or none.");
   convert->add_option("IN", convert_args->input, "the cameras: a COLMAP model folder or a file")
       ->required();

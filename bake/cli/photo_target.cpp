@@ -8,7 +8,8 @@ void add_photo_flags(CLI::App& cmd, PhotoFlags& flags) {
   cmd.add_option("--cameras", flags.cameras,
                  "bake from calibrated photos instead of --texture and a proxy: a COLMAP sparse "
                  "model folder (cameras + images .txt or .bin) or a camera file, told by its "
-                 "content: a JSON camera list or a nerfstudio / instant-ngp transforms.json "
+                 "content: a JSON camera list, a nerfstudio / instant-ngp transforms.json or a "
+                 "Metashape cameras.xml "
                  "(vertex or atlas target)");
   cmd.add_option("--images", flags.images,
                  "--cameras: the photos' folder (default: a COLMAP workspace's images/ beside "

@@ -325,7 +325,8 @@ enum class PhotoFolder { kNeeded, kNotNeeded };
 // The cameras of `cameras` with their photos: a COLMAP sparse model folder
 // (cameras.txt + images.txt or the .bin pair, mesh_io/colmap_model.h) or a
 // camera file of any format mesh_io/camera_formats.h reads (texbake's JSON
-// camera list, nerfstudio / instant-ngp transforms.json), told by its
+// camera list, nerfstudio / instant-ngp transforms.json, Metashape
+// cameras.xml), told by its
 // content. Photos are looked up in `images` when given; otherwise, for a
 // COLMAP model, in the `images` folder of the workspace whose `sparse/`
 // holds the model (COLMAP's layout: W/sparse/0 -> W/images), and for a

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 
 #include "mesh_io/camera_formats.h"
 #include "mesh_io/colmap_model.h"
@@ -268,6 +269,77 @@ TEST_F(CameraFormatsCli, ConvertErrorsLeaveNoOutput) {
   // Usage: -o is required.
   r = run_texbake("cameras convert " + q(d / "ws/transforms.json"));
   EXPECT_EQ(r.exit_code, 2) << r.err;
+}
+
+TEST_F(CameraFormatsCli, MetashapeCamerasBakeAsTheirColmapModel) {
+  const fs::path& d = *dir_;
+  // ws/sparse/0 written as Metashape exports it: cx, cy as offsets from the
+  // image centre; camera-to-chunk transforms, with the chunk's world X = s R
+  // X_chunk + t (R 90 degrees about z, t = (1, 2, 3), s = 2), so each
+  // camera-to-chunk is R^T (camera-to-world) with its centre R^T (C - t) / s;
+  // labels without the photo's extension.
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(d / "ws/sparse/0");
+  ASSERT_TRUE(model);
+  const CameraSpec& s0 = (*model)[0].camera.spec();
+  ASSERT_EQ(s0.params[0], s0.params[1]);  // square pixels: f, no b1
+  std::ostringstream xml;
+  xml.precision(17);
+  xml << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<document version=\"1.5.0\">\n<chunk>\n"
+      << "<sensors><sensor id=\"0\" type=\"frame\"><resolution width=\"" << s0.width
+      << "\" height=\"" << s0.height << "\"/><calibration type=\"frame\"><f>" << s0.params[0]
+      << "</f><cx>" << s0.params[2] - s0.width / 2.0 << "</cx><cy>"
+      << s0.params[3] - s0.height / 2.0 << "</cy></calibration></sensor></sensors>\n<cameras>\n";
+  const double rt[9] = {0, 1, 0, -1, 0, 0, 0, 0, 1};  // R^T, R = rows (0,-1,0), (1,0,0), (0,0,1)
+  for (const ColmapImage& image : *model) {
+    const CameraPose& pose = image.camera.spec().pose;
+    const Vec3 c = image.camera.centre() - Vec3{1, 2, 3};
+    double m[16] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        // (R^T c2w)_ij = sum_k rt_ik c2w_kj, c2w_kj = pose.r[3 j + k]
+        for (int k = 0; k < 3; ++k) m[4 * i + j] += rt[3 * i + k] * pose.r[3 * j + k];
+      }
+      m[4 * i + 3] = (rt[3 * i] * c.x + rt[3 * i + 1] * c.y + rt[3 * i + 2] * c.z) / 2;
+    }
+    const std::string label = fs::path(image.name).stem().string();
+    xml << "<camera id=\"" << image.image_id << "\" sensor_id=\"0\" label=\"" << label
+        << "\"><transform>";
+    for (double v : m) xml << v << ' ';
+    xml << "</transform></camera>\n";
+  }
+  xml << "</cameras>\n<transform><rotation>0 -1 0 1 0 0 0 0 1</rotation><translation>1 2 3"
+      << "</translation><scale>2</scale></transform>\n</chunk>\n</document>\n";
+  std::ofstream(d / "cameras.xml") << xml.str();
+  Expected<CameraFile> file = read_camera_file(d / "cameras.xml");
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_EQ(file->format, CameraFormat::kMetashape);
+  std::vector<CameraProjector> from_file;
+  for (const CameraListEntry& e : file->cameras) from_file.push_back(e.camera);
+  expect_same_projections(from_file, colmap_cameras(d / "ws/sparse/0"));
+  // Baked with the photos found by their labels plus ".png".
+  const std::string bunny = q(kData + "/bunny00.off");
+  testing_cli::RunResult r =
+      run_texbake("bake " + bunny + " --cameras " + q(d / "cameras.xml") + " --images " +
+                  q(d / "ws/images") + " -o " + q(d / "ms.ply") + " --strict-photos");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("placed in the chunk's world frame"), std::string::npos) << r.err;
+  testing_cli::RunResult colmap = run_texbake("bake " + bunny + " --cameras " +
+                                              q(d / "ws/sparse/0") + " -o " + q(d / "colmap2.ply"));
+  ASSERT_EQ(colmap.exit_code, 0) << colmap.err;
+  Expected<LoadedMesh> a = read_mesh(d / "colmap2.ply");
+  Expected<LoadedMesh> b = read_mesh(d / "ms.ply");
+  ASSERT_TRUE(a && b);
+  ASSERT_EQ(a->mesh.vertex_colors.size(), b->mesh.vertex_colors.size());
+  for (std::size_t i = 0; i < a->mesh.vertex_colors.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(a->mesh.vertex_colors[i][c], b->mesh.vertex_colors[i][c], 1.01 / 255) << i;
+    }
+  }
+  // And converted: the same projections from the COLMAP model.
+  r = run_texbake("cameras convert " + q(d / "cameras.xml") + " -o " + q(d / "msconv"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("from a Metashape cameras.xml"), std::string::npos) << r.out;
+  expect_same_projections(colmap_cameras(d / "msconv"), from_file);
 }
 
 }  // namespace
