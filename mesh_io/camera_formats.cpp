@@ -52,6 +52,23 @@ Expected<CameraFile> camera_file_from_text(std::string_view text, const std::str
           "cameras.xml is XML (a COLMAP model is given as its folder)");
 }
 
+std::filesystem::path camera_photo_path(CameraFormat format, const std::string& image,
+                                        const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
+  const fs::path path = fs::path(image).is_absolute() ? fs::path(image) : folder / image;
+  std::error_code ec;
+  if (format != CameraFormat::kMetashape || path.has_extension() || fs::exists(path, ec)) {
+    return path;
+  }
+  for (const char* ext :
+       {".jpg", ".JPG", ".jpeg", ".JPEG", ".png", ".PNG", ".tif", ".TIF", ".tiff", ".TIFF"}) {
+    fs::path p = path;
+    p += ext;
+    if (fs::is_regular_file(p, ec)) return p;
+  }
+  return path;
+}
+
 Expected<CameraFile> read_camera_file(const std::filesystem::path& path) {
   const std::string name = path.filename().string();
   if (name == "cameras.txt" || name == "images.txt" || name == "cameras.bin" ||

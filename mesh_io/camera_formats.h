@@ -42,4 +42,12 @@ Expected<CameraFile> read_camera_file(const std::filesystem::path& path);
 // The same from text; errors start with `source`.
 Expected<CameraFile> camera_file_from_text(std::string_view text, const std::string& source);
 
+// The photo a camera file names `image`, with `folder` the photos' folder:
+// `image` when absolute, else folder / image; for a Metashape label without
+// an extension (Metashape's usual labels) that is not a file, the first of
+// that path plus .jpg, .JPG, .jpeg, .JPEG, .png, .PNG, .tif, .TIF, .tiff,
+// .TIFF that is a file (else the path unchanged).
+std::filesystem::path camera_photo_path(CameraFormat format, const std::string& image,
+                                        const std::filesystem::path& folder);
+
 }  // namespace texbake

@@ -28,7 +28,7 @@ struct CamerasArgs {
 };
 
 struct ConvertArgs {
-  std::string input, output;
+  std::string input, output, images;
   bool binary = false;
 };
 
@@ -110,16 +110,32 @@ int run_convert(const ConvertArgs& a) {
     if (!file) return report_error(file.error());
     format = camera_format_name(file->format);
     notes = std::move(file->notes);
+    // The photos' folder: --images, else the file's (as --cameras).
+    fs::path base = a.images.empty() ? fs::path(a.input).parent_path() : fs::path(a.images);
+    if (base.empty()) base = ".";
     uint32_t id = 0;
+    std::size_t unfound = 0;
     for (CameraListEntry& entry : file->cameras) {
       ++id;
-      images.push_back({id, 0, std::move(entry.image), std::move(entry.camera)});
+      // A Metashape label gets the extension of the photo found for it.
+      std::string name = std::move(entry.image);
+      const fs::path photo = camera_photo_path(file->format, name, base);
+      if (!fs::path(name).has_extension()) {
+        if (photo.has_extension()) {
+          name += photo.extension().string();
+        } else {
+          ++unfound;
+        }
+      }
+      images.push_back({id, 0, std::move(name), std::move(entry.camera)});
     }
-    const fs::path base = fs::path(a.input).parent_path();
-    notes.push_back("the images' names are as " + a.input + " gives them, relative to " +
-                    (base.empty() ? std::string(".") : base.string()) + ": bake with --cameras " +
-                    out.string() + " --images " +
-                    (base.empty() ? std::string(".") : base.string()));
+    notes.push_back("the images' names are relative to " + base.string() +
+                    ": bake with --cameras " + out.string() + " --images " + base.string());
+    if (unfound != 0 && file->format == CameraFormat::kMetashape) {
+      notes.push_back(std::to_string(unfound) + " label" + (unfound == 1 ? " has" : "s have") +
+                      " no extension and no photo of that name was found in " + base.string() +
+                      " to complete it (give the photos' folder with --images)");
+    }
   }
   // A name the model cannot hold: a line break or NUL ends a record, and
   // the text form's reader trims blanks at the name's ends.
@@ -182,6 +198,10 @@ RunFunction add_cameras_command(CLI::App& app) {
                    "the COLMAP model's folder (created if missing; a model of the other form "
                    "there is replaced)")
       ->required();
+  convert->add_option("--images", convert_args->images,
+                      "the photos' folder, which the images' names are made relative to "
+                      "(default: the camera file's folder, as bake --cameras); a Metashape "
+                      "label without an extension gets its photo's");
   convert->add_flag("--binary", convert_args->binary,
                     "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
   return [args, convert_args, check] {

@@ -47,20 +47,6 @@ PhotoReader progress_reader(Progress& progress, std::size_t& done, TextureColorS
   };
 }
 
-// A Metashape camera's label usually lacks its photo's extension: a path
-// without one that is not a file gets the first of these that is.
-fs::path with_photo_extension(const fs::path& path) {
-  std::error_code ec;
-  if (path.has_extension() || fs::exists(path, ec)) return path;
-  for (const char* ext :
-       {".jpg", ".JPG", ".jpeg", ".JPEG", ".png", ".PNG", ".tif", ".TIF", ".tiff", ".TIFF"}) {
-    fs::path p = path;
-    p += ext;
-    if (fs::is_regular_file(p, ec)) return p;
-  }
-  return path;
-}
-
 }  // namespace
 
 Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::path& images,
@@ -89,9 +75,7 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
     if (notes) notes->insert(notes->end(), file->notes.begin(), file->notes.end());
     if (folder.empty()) folder = cameras.parent_path();
     for (CameraListEntry& entry : file->cameras) {
-      fs::path path =
-          fs::path(entry.image).is_absolute() ? fs::path(entry.image) : folder / entry.image;
-      if (file->format == CameraFormat::kMetashape) path = with_photo_extension(path);
+      const fs::path path = camera_photo_path(file->format, entry.image, folder);
       photos.push_back({entry.image, std::move(entry.camera), path});
     }
   }

@@ -202,7 +202,11 @@ TEST_F(CameraFormatsCli, ConvertWritesAColmapModelThatProjectsAsTheInput) {
             std::string::npos)
       << r.out;
   EXPECT_NE(r.err.find("applied_transform"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("the images' names are as "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the images' names are relative to " + (d / "ws").string() +
+                       ": bake with --cameras " + (d / "conv").string() + " --images " +
+                       (d / "ws").string()),
+            std::string::npos)
+      << r.err;
   EXPECT_FALSE(fs::exists(d / "conv/cameras.bin"));
   EXPECT_FALSE(fs::exists(d / "conv/images.bin"));
   EXPECT_TRUE(fs::exists(d / "conv/points3D.txt"));
@@ -335,11 +339,25 @@ TEST_F(CameraFormatsCli, MetashapeCamerasBakeAsTheirColmapModel) {
       ASSERT_NEAR(a->mesh.vertex_colors[i][c], b->mesh.vertex_colors[i][c], 1.01 / 255) << i;
     }
   }
-  // And converted: the same projections from the COLMAP model.
-  r = run_texbake("cameras convert " + q(d / "cameras.xml") + " -o " + q(d / "msconv"));
+  // And converted: the same projections from the COLMAP model, the labels
+  // completed with the extension of the photos found in --images.
+  r = run_texbake("cameras convert " + q(d / "cameras.xml") + " -o " + q(d / "msconv") +
+                  " --images " + q(d / "ws/images"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("from a Metashape cameras.xml"), std::string::npos) << r.out;
   expect_same_projections(colmap_cameras(d / "msconv"), from_file);
+  Expected<std::vector<ColmapImage>> conv = read_colmap_model(d / "msconv");
+  ASSERT_TRUE(conv);
+  EXPECT_EQ((*conv)[0].name, "view_00.png");
+  r = run_texbake("bake " + bunny + " --cameras " + q(d / "msconv") + " --images " +
+                  q(d / "ws/images") + " -o " + q(d / "msconv.ply") + " --strict-photos");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  // Without the photos' folder the labels stay as they are, with a note.
+  r = run_texbake("cameras convert " + q(d / "cameras.xml") + " -o " + q(d / "msconv2"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("4 labels have no extension and no photo of that name was found"),
+            std::string::npos)
+      << r.err;
 }
 
 }  // namespace
