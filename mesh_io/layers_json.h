@@ -11,7 +11,7 @@
 // Paths are relative to the layers file's folder (absolute ones stay). A
 // layer's projector is exactly one of "proxy" (an inline proxy or camera
 // object, mesh_io/proxy_json.h), "proxy_file" (a proxy or camera file) and
-// "cameras" (a COLMAP model or camera list, with optional "images").
+// "cameras" (a COLMAP model or a camera file, as --cameras, with optional "images").
 // "texture" is required unless the layer has "cameras" (whose photos are
 // the images), where it is an error; a "cameras" layer takes no "mask", and
 // only "outside" "transparent" and "visibility" "first". "filter" is the

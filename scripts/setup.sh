@@ -19,7 +19,7 @@ texbake_build_packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libembree-dev libopenimageio-dev openimageio-tools
   libcgal-dev libgmp-dev libmpfr-dev libeigen3-dev libtbb-dev
-  libcli11-dev nlohmann-json3-dev libtinygltf-dev
+  libcli11-dev nlohmann-json3-dev libtinygltf-dev libpugixml-dev
 )
 texbake_test_packages=(
   libgtest-dev libbenchmark-dev

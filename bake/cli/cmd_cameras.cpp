@@ -4,12 +4,19 @@
 // convention error (bake/photo/camera_check.h); then, for a COLMAP model
 // with sparse points, whether it is in the mesh's frame (the figures of
 // bake/fit/model_alignment.h, and a warning when it is not or may not be).
+// texbake cameras convert IN -o OUT [--binary]: any camera format --cameras
+// reads, written as a COLMAP model (mesh_io/colmap_model.h's writer, the one
+// render --colmap uses).
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <system_error>
 
 #include "bake/cli/commands.h"
+#include "mesh_io/atomic_file.h"
+#include "mesh_io/camera_formats.h"
+#include "mesh_io/colmap_model.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -22,11 +29,23 @@ struct CamerasArgs {
   int threads = 0;
 };
 
+struct ConvertArgs {
+  std::string input, output, images;
+  bool binary = false;
+};
+
+void print_notes(const std::vector<std::string>& notes) {
+  for (const std::string& n : notes) std::fprintf(stderr, "texbake: %s\n", n.c_str());
+}
+
 int run_check(const CamerasArgs& a) {
   // Only the poses and photo sizes are needed, which the model holds: no
   // photos folder (and no photo) is needed.
-  Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images, PhotoFolder::kNotNeeded);
+  std::vector<std::string> notes;
+  Expected<std::vector<Photo>> photos =
+      read_cameras(a.cameras, a.images, PhotoFolder::kNotNeeded, &notes);
   if (!photos) return report_error(photos.error());
+  print_notes(notes);
   RunOptions run;
   run.threads = a.threads;
   Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
@@ -75,12 +94,94 @@ int run_check(const CamerasArgs& a) {
   return 0;
 }
 
+int run_convert(const ConvertArgs& a) {
+  namespace fs = std::filesystem;
+  const fs::path out = a.output;
+  // The model's files, and those of the other form, which the write
+  // removes: none may be an input (converting a model into its own folder).
+  std::vector<NamedFile> written;
+  for (const char* stem : {"cameras", "images", "points3D"}) {
+    for (const char* ext : {".txt", ".bin"}) {
+      written.push_back({"-o", out / (std::string(stem) + ext)});
+    }
+  }
+  if (Status s = check_distinct_files(camera_files(a.input, {}, "IN"), written); !s) {
+    return report_error(s.error());
+  }
+  std::error_code ec;
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "-o " + out.string() + " is a file: -o names the COLMAP model's folder");
+  }
+  std::vector<ColmapImage> images;
+  std::vector<std::string> notes;
+  std::string format = "COLMAP model";
+  if (fs::is_directory(a.input, ec)) {
+    // Read as COLMAP stores it, image ids kept.
+    Expected<std::vector<ColmapImage>> model = read_colmap_model(a.input);
+    if (!model) return report_error(model.error());
+    images = std::move(model).value();
+  } else {
+    Expected<CameraFile> file = read_camera_file(a.input);
+    if (!file) return report_error(file.error());
+    format = camera_format_name(file->format);
+    notes = std::move(file->notes);
+    // The photos' folder: --images, else the file's (as --cameras).
+    fs::path base = a.images.empty() ? fs::path(a.input).parent_path() : fs::path(a.images);
+    if (base.empty()) base = ".";
+    uint32_t id = 0;
+    std::size_t unfound = 0;
+    for (CameraListEntry& entry : file->cameras) {
+      ++id;
+      // A Metashape label gets the extension of the photo found for it.
+      std::string name = std::move(entry.image);
+      const fs::path photo = camera_photo_path(file->format, name, base);
+      if (!fs::path(name).has_extension()) {
+        if (photo.has_extension()) {
+          name += photo.extension().string();
+        } else {
+          ++unfound;
+        }
+      }
+      images.push_back({id, 0, std::move(name), std::move(entry.camera)});
+    }
+    notes.push_back("the images' names are relative to " + base.string() +
+                    ": bake with --cameras " + out.string() + " --images " + base.string());
+    if (unfound != 0 && file->format == CameraFormat::kMetashape) {
+      notes.push_back(std::to_string(unfound) + " label" + (unfound == 1 ? " has" : "s have") +
+                      " no extension and no photo of that name was found in " + base.string() +
+                      " to complete it (give the photos' folder with --images)");
+    }
+  }
+  // A name the model cannot hold: a line break or NUL ends a record, and
+  // the text form's reader trims blanks at the name's ends.
+  for (const ColmapImage& image : images) {
+    const std::string& n = image.name;
+    const bool blank_end = std::string(" \t").find(n.front()) != std::string::npos ||
+                           std::string(" \t").find(n.back()) != std::string::npos;
+    if (n.find_first_of(std::string("\n\r\0", 3)) != std::string::npos ||
+        (!a.binary && blank_end)) {
+      return report_error(ErrorCode::kParse, a.input + ": the image name '" + image.name +
+                                                 "' cannot be written in a COLMAP model");
+    }
+  }
+  if (Status s = write_colmap_model(out, images, a.binary); !s) return report_error(s.error());
+  print_notes(notes);
+  std::printf(
+      "converted %zu images from a %s into a COLMAP model: %s (%s)\n", images.size(),
+      std::string(format).c_str(), out.string().c_str(),
+      a.binary ? "cameras.bin, images.bin, points3D.bin" : "cameras.txt, images.txt, points3D.txt");
+  return 0;
+}
+
 }  // namespace
 
 RunFunction add_cameras_command(CLI::App& app) {
   auto args = std::make_shared<CamerasArgs>();
-  CLI::App* cmd = app.add_subcommand("cameras", "Inspect calibrated cameras against a mesh.");
+  CLI::App* cmd = app.add_subcommand(
+      "cameras", "Check calibrated cameras against a mesh, or convert them to a COLMAP model.");
   cmd->require_subcommand(1);
+  auto convert_args = std::make_shared<ConvertArgs>();
   CLI::App* check = cmd->add_subcommand(
       "check",
       "Per camera: the share of the mesh's vertices in front of it, inside its photo and "
@@ -89,8 +190,10 @@ RunFunction add_cameras_command(CLI::App& app) {
   check->add_option("mesh", args->mesh, "input mesh (.obj, .ply, .off, .stl, .glb, .gltf)")
       ->required();
   check
-      ->add_option("--cameras", args->cameras,
-                   "a COLMAP sparse model folder or a JSON camera list (as bake --cameras)")
+      ->add_option(
+          "--cameras", args->cameras,
+          "a COLMAP sparse model folder or a camera file: a JSON camera list, a "
+          "nerfstudio / instant-ngp transforms.json or a Metashape cameras.xml (as bake --cameras)")
       ->required();
   check->add_option("--images", args->images,
                     "the photos' folder (not needed: the check reads no photo; accepted as in "
@@ -98,7 +201,29 @@ RunFunction add_cameras_command(CLI::App& app) {
   check->add_flag("--json", args->json, "print the table as JSON");
   check->add_option("--threads", args->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
-  return [args] { return run_check(*args); };
+  CLI::App* convert = cmd->add_subcommand(
+      "convert",
+      "Write the cameras of any format --cameras reads (a COLMAP model, a JSON camera list, a "
+      "nerfstudio / instant-ngp transforms.json, a Metashape cameras.xml) as a COLMAP model: "
+      "cameras, images and an "
+      "empty points3D, all written or none.");
+  convert->add_option("IN", convert_args->input, "the cameras: a COLMAP model folder or a file")
+      ->required();
+  convert
+      ->add_option("-o,--output", convert_args->output,
+                   "the COLMAP model's folder (created if missing; a model of the other form "
+                   "there is replaced)")
+      ->required();
+  convert->add_option("--images", convert_args->images,
+                      "the photos' folder, which the images' names are made relative to "
+                      "(default: the camera file's folder, as bake --cameras); a Metashape "
+                      "label without an extension gets its photo's");
+  convert->add_flag("--binary", convert_args->binary,
+                    "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
+  return [args, convert_args, check] {
+    if (check->parsed()) return run_check(*args);
+    return run_convert(*convert_args);
+  };
 }
 
 }  // namespace texbake::cli

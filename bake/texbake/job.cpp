@@ -310,10 +310,14 @@ class JobRun {
   Status run_photos() {
     if (Status s = check_files(); !s) return s;
     auto stage = Clock::now();
+    std::vector<std::string> notes;
     Expected<std::vector<Photo>> photos =
         job_.photo ? Expected<std::vector<Photo>>(std::vector<Photo>{*job_.photo})
-                   : read_cameras(job_.cameras, job_.images);
+                   : read_cameras(job_.cameras, job_.images, PhotoFolder::kNeeded, &notes);
     if (!photos) return photos.error();
+    if (job_.on_note) {
+      for (const std::string& n : notes) job_.on_note(n);
+    }
     Expected<LoadedMesh> mesh = read_job_mesh();
     if (!mesh) return mesh.error();
     if (Status s = check_alignment(mesh->mesh); !s) return s;

@@ -113,10 +113,12 @@ const JobOption kOtherRows[] = {
      "photos are read whole, at most 16384 x 16384 pixels"},
     {"cameras", "--cameras", "", T::kPath, "PATH", "", "", kPhotos,
      "bake from calibrated photos instead of --texture and a proxy: a COLMAP sparse model folder "
-     "(cameras + images .txt or .bin) or a JSON camera list (vertex or atlas target)"},
+     "(cameras + images .txt or .bin) or a camera file, told by its content: a JSON camera "
+     "list, a nerfstudio / instant-ngp transforms.json or a Metashape cameras.xml (vertex or "
+     "atlas target)"},
     {"images", "--images", "", T::kPath, "DIR", "images/ beside sparse/", "", kPhotos,
      "--cameras: the photos' folder (default: a COLMAP workspace's images/ beside sparse/, or "
-     "the JSON list's folder)"},
+     "the camera file's folder)"},
     {"blend", "--blend", "", T::kChoice, "soft|best|mean", "soft", "soft|best|mean", kPhotos,
      "--cameras: soft (weights favouring the best views, default), best (one photo per point) "
      "or mean"},

@@ -1,5 +1,5 @@
 // read_cameras, bake_vertex_colors_from_photos and
-// bake_atlas_texture_from_photos: mesh_io's COLMAP and JSON camera readers
+// bake_atlas_texture_from_photos: mesh_io's COLMAP and camera file readers
 // and bake/photo behind the API's conventions.
 #include <string>
 #include <system_error>
@@ -8,7 +8,7 @@
 #include "bake/texbake/run.h"
 #include "bake/util/progress.h"
 #include "bake/util/timing.h"
-#include "mesh_io/camera_json.h"
+#include "mesh_io/camera_formats.h"
 #include "mesh_io/colmap_model.h"
 #include "mesh_io/proxy_json.h"
 #include "mesh_io/regular_file.h"
@@ -50,7 +50,7 @@ PhotoReader progress_reader(Progress& progress, std::size_t& done, TextureColorS
 }  // namespace
 
 Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::path& images,
-                                          PhotoFolder need) {
+                                          PhotoFolder need, std::vector<std::string>* notes) {
   std::error_code ec;
   std::vector<Photo> photos;
   fs::path folder = images;
@@ -70,12 +70,12 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
       photos.push_back({image.name, std::move(image.camera), folder / image.name});
     }
   } else {
-    Expected<std::vector<CameraListEntry>> list = read_camera_list(cameras);
-    if (!list) return list.error();
+    Expected<CameraFile> file = read_camera_file(cameras);
+    if (!file) return file.error();
+    if (notes) notes->insert(notes->end(), file->notes.begin(), file->notes.end());
     if (folder.empty()) folder = cameras.parent_path();
-    for (CameraListEntry& entry : *list) {
-      const fs::path path =
-          fs::path(entry.image).is_absolute() ? fs::path(entry.image) : folder / entry.image;
+    for (CameraListEntry& entry : file->cameras) {
+      const fs::path path = camera_photo_path(file->format, entry.image, folder);
       photos.push_back({entry.image, std::move(entry.camera), path});
     }
   }

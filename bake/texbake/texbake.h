@@ -325,17 +325,22 @@ enum class PhotoFolder { kNeeded, kNotNeeded };
 
 // The cameras of `cameras` with their photos: a COLMAP sparse model folder
 // (cameras.txt + images.txt or the .bin pair, mesh_io/colmap_model.h) or a
-// JSON camera list (mesh_io/camera_json.h). Photos are looked up in
-// `images` when given; otherwise, for a COLMAP model, in the `images` folder
-// of the workspace whose `sparse/` holds the model (COLMAP's layout:
-// W/sparse/0 -> W/images), and for a JSON list beside the list. The photos
-// are not opened here: the bakes read them one at a time, and leave out
-// those that cannot be read (PhotoBakeOptions::strict_photos). Errors:
-// kInput (the model or list), kUsage (kNeeded and no images folder can be
-// found: give one).
+// camera file of any format mesh_io/camera_formats.h reads (texbake's JSON
+// camera list, nerfstudio / instant-ngp transforms.json, Metashape
+// cameras.xml), told by its
+// content. Photos are looked up in `images` when given; otherwise, for a
+// COLMAP model, in the `images` folder of the workspace whose `sparse/`
+// holds the model (COLMAP's layout: W/sparse/0 -> W/images), and for a
+// camera file relative to the file's folder. The photos are not opened
+// here: the bakes read them one at a time, and leave out those that cannot
+// be read (PhotoBakeOptions::strict_photos). `notes`, when given, receives
+// what the reader did that the user must know (a nerfstudio file's
+// applied_transform undone), one sentence each. Errors: kInput (the model
+// or file), kUsage (kNeeded and no images folder can be found: give one).
 Expected<std::vector<Photo>> read_cameras(const std::filesystem::path& cameras,
                                           const std::filesystem::path& images = {},
-                                          PhotoFolder need = PhotoFolder::kNeeded);
+                                          PhotoFolder need = PhotoFolder::kNeeded,
+                                          std::vector<std::string>* notes = nullptr);
 
 // A camera proxy file (SPEC section 9: a proxy file of "kind": "camera")
 // and its photo as the one-photo list of the photo bakes, which take it

@@ -2,12 +2,11 @@
 // (SPEC section 12): one row per (command, input kind, output flag), over
 // every command that writes and every kind of input a job reads: the mesh,
 // --texture, --proxy-file, a COLMAP model's files and photos, a JSON camera
-// list and its photos, the layers file and what it names (proxy file,
-// texture, mask, a cameras layer's model and photos), the mesh's own
-// texture, the batch's jobs file and --results. Each row asserts exit 2 (a
-// batch job: its line's exit in --results), a message naming both files,
-// and the folder byte for byte as it was: the input untouched, no output
-// made.
+// list and its photos, a nerfstudio transforms.json's photos, the layers file and what it names
+// (proxy file, texture, mask, a cameras layer's model and photos), the mesh's own texture, the
+// batch's jobs file and --results. Each row asserts exit 2 (a batch job: its line's exit in
+// --results), a message naming both files, and the folder byte for byte as it was: the input
+// untouched, no output made.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -110,6 +109,12 @@ class DistinctFiles : public ::testing::TestWithParam<Row> {
     // A JSON camera list and its photo b.png beside it.
     write(dir_ / "cams.json", std::string(R"({"cameras":[{)") + kCamera + R"(,"image":"b.png"}]})");
     write_png(dir_ / "b.png", 8, 6);
+    // A nerfstudio transforms.json of the same camera (camera-to-world,
+    // OpenGL axes) and its photo T/images/c.png.
+    write(dir_ / "T/transforms.json",
+          R"({"w":8,"h":6,"fl_x":10,"fl_y":10,"cx":4,"cy":3,"frames":[{"file_path":)"
+          R"("images/c.png","transform_matrix":[[1,0,0,0],[0,-1,0,0],[0,0,-1,-5],[0,0,0,1]]}]})");
+    write_png(dir_ / "T/images/c.png", 8, 6);
     // A layers file: a proxy-file layer with a texture and a mask, and a
     // cameras layer over W's model.
     write(dir_ / "lp.json",
@@ -296,6 +301,16 @@ const Row kRows[] = {
     {"RenderOutputOntoMeshTexture",
      {"render", "@tetuv.obj", "--size", "8x8", "-o", "@R/images/view_00.png"},
      {"-o ", "a file MESH names: "}},
+    // bake --cameras with a nerfstudio file: its photos are inputs.
+    {"AtlasImageOntoNerfstudioPhoto",
+     {"bake", "@tet.ply", "--cameras", "@T/transforms.json", "--uv", "generate", "--size", "8",
+      "-o", "@T/images/c.obj"},
+     {"the atlas image of -o", "a photo of --cameras ", "c.png"}},
+    // cameras convert: the model it writes (and the other form's files it
+    // removes) may not be the input model's files.
+    {"CamerasConvertOntoItsInputModel",
+     {"cameras", "convert", "@W/sparse/0", "-o", "@W/sparse/0"},
+     {"-o ", "IN ", "cameras.txt"}},
     // batch: the jobs file and --results are an input and an output of
     // every job; each job's own files as bake's.
     {"BatchResultsOntoJobs",
