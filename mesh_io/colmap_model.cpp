@@ -465,10 +465,10 @@ std::string exact(double v) {
 }  // namespace
 
 Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>& images,
-                          bool binary, AtomicFileSet* set) {
+                          bool binary, AtomicFileSet* set, std::span<const Vec3> points) {
   if (!set) {
     AtomicFileSet own;
-    if (Status s = write_colmap_model(folder, images, binary, &own); !s) return s;
+    if (Status s = write_colmap_model(folder, images, binary, &own, points); !s) return s;
     return own.commit();
   }
   std::error_code ec;
@@ -542,16 +542,30 @@ Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>
     }
   }
   if (!binary) img = text.str();
-  // No 3D points: an empty points3D file, so that COLMAP itself reads the
-  // model and no earlier model's points stay beside these cameras.
-  std::string points;
+  // The 3D points given (grey, error 0, no track), or none: an empty
+  // points3D file, so that COLMAP itself reads the model and no earlier
+  // model's points stay beside these cameras.
+  std::string points_file;
   if (binary) {
-    put<uint64_t>(points, 0);
+    put<uint64_t>(points_file, points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      put<uint64_t>(points_file, i + 1);
+      for (double v : {points[i].x, points[i].y, points[i].z}) put(points_file, v);
+      points_file.append(3, static_cast<char>(128));
+      put(points_file, 0.0);
+      put<uint64_t>(points_file, 0);
+    }
   } else {
-    points =
-        "# 3D point list with one line of data per point:\n"
-        "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
-        "# Number of points: 0\n";
+    std::ostringstream p;
+    p << "# 3D point list with one line of data per point:\n"
+         "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
+         "# Number of points: "
+      << points.size() << "\n";
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      p << i + 1 << ' ' << exact(points[i].x) << ' ' << exact(points[i].y) << ' '
+        << exact(points[i].z) << " 128 128 128 0\n";
+    }
+    points_file = p.str();
   }
   const std::string ext = binary ? ".bin" : ".txt", other = binary ? ".txt" : ".bin";
   for (const char* name : {"cameras", "images", "points3D"}) {
@@ -560,7 +574,7 @@ Status write_colmap_model(const fs::path& folder, const std::vector<ColmapImage>
     if (Status s = set->stage_removal(folder / (name + other)); !s) return s;
   }
   if (Status s = stage_file(*set, folder / ("cameras" + ext), cam); !s) return s;
-  if (Status s = stage_file(*set, folder / ("points3D" + ext), points); !s) return s;
+  if (Status s = stage_file(*set, folder / ("points3D" + ext), points_file); !s) return s;
   return stage_file(*set, folder / ("images" + ext), img);
 }
 

@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -48,17 +49,17 @@ Expected<std::vector<ColmapImage>> read_colmap_model(const std::filesystem::path
 
 // Writes `images` as a COLMAP model into `folder` (created if missing):
 // cameras.txt + images.txt + points3D.txt (numbers with 17 significant
-// digits, so they read back exactly; no 2D points, no 3D points) or, with
-// `binary`, the three .bin files. Images with equal intrinsics share one
-// camera id. The model's files and the removal of the other form's
-// (cameras, images, points3D of .bin for text and of .txt for binary: a
-// stale binary model would otherwise win over the new text one) are one
-// atomic set: staged in `set` when given (the caller commits it, with its
-// other files: a workspace's photos), else committed here. Errors: kIo
-// (nothing is changed).
+// digits, so they read back exactly; no 2D points; the 3D `points`, grey
+// with error 0 and no track, or none) or, with `binary`, the three .bin
+// files. Images with equal intrinsics share one camera id. The model's files
+// and the removal of the other form's (cameras, images, points3D of .bin for
+// text and of .txt for binary: a stale binary model would otherwise win over
+// the new text one) are one atomic set: staged in `set` when given (the
+// caller commits it, with its other files: a workspace's photos), else
+// committed here. Errors: kIo (nothing is changed).
 Status write_colmap_model(const std::filesystem::path& folder,
                           const std::vector<ColmapImage>& images, bool binary,
-                          AtomicFileSet* set = nullptr);
+                          AtomicFileSet* set = nullptr, std::span<const Vec3> points = {});
 
 // The model's sparse 3D points (X Y Z of points3D.txt, or points3D.bin when
 // the model is binary; colours, errors and tracks are skipped), in file

@@ -4,19 +4,24 @@
 // convention error (bake/photo/camera_check.h); then, for a COLMAP model
 // with sparse points, whether it is in the mesh's frame (the figures of
 // bake/fit/model_alignment.h, and a warning when it is not or may not be).
+// texbake cameras align MESH --cameras MODEL -o OUT: the model moved into the
+// mesh's frame (bake/fit/model_alignment.h's fit, or --transform).
 // texbake cameras convert IN -o OUT [--binary]: any camera format --cameras
 // reads, written as a COLMAP model (mesh_io/colmap_model.h's writer, the one
 // render --colmap uses).
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #include "bake/cli/commands.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/camera_formats.h"
 #include "mesh_io/colmap_model.h"
+#include "texbake/geometry_options.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -90,6 +95,138 @@ int run_check(const CamerasArgs& a) {
     for (const std::string& w : c.warnings) {
       std::fprintf(stderr, "texbake: warning: %s: %s\n", c.name.c_str(), w.c_str());
     }
+  }
+  return 0;
+}
+
+// texbake cameras align MESH --cameras MODEL -o OUT [--transform M] [--binary]
+struct AlignArgs {
+  std::string mesh, cameras, output, transform;
+  bool binary = false;
+  int threads = 0;
+};
+
+// The 16 numbers of --transform ("a,b,c,...", row by row) as a similarity.
+Expected<Similarity> parse_transform(const std::string& text) {
+  std::vector<double> m;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', start);
+    Expected<double> v =
+        parse_number_option(std::string_view(text).substr(
+                                start, comma == std::string::npos ? text.npos : comma - start),
+                            "--transform");
+    if (!v) return v.error();
+    m.push_back(*v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return similarity_from_matrix(m, "--transform");
+}
+
+// "a,b,c,...": the 4x4 matrix of `s`, row by row, as --transform takes it.
+std::string transform_text(const Similarity& s) {
+  std::string text;
+  char buf[40];
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      std::snprintf(buf, sizeof buf, "%.9g,", s.scale * s.r[3 * i + j]);
+      text += buf;
+    }
+    std::snprintf(buf, sizeof buf, "%.9g,", i == 0 ? s.t.x : i == 1 ? s.t.y : s.t.z);
+    text += buf;
+  }
+  return text + "0,0,0,1";
+}
+
+int run_align(const AlignArgs& a) {
+  namespace fs = std::filesystem;
+  const fs::path out = a.output;
+  std::vector<NamedFile> written;
+  for (const char* stem : {"cameras", "images", "points3D"}) {
+    for (const char* ext : {".txt", ".bin"}) {
+      written.push_back({"-o", out / (std::string(stem) + ext)});
+    }
+  }
+  std::vector<NamedFile> inputs = camera_files(a.cameras, {}, "--cameras");
+  inputs.push_back({"MESH", a.mesh});
+  if (Status s = check_distinct_files(inputs, written); !s) return report_error(s.error());
+  std::error_code ec;
+  if (!fs::is_directory(a.cameras, ec)) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--cameras " + a.cameras +
+                            ": cameras align takes a COLMAP model folder (texbake cameras "
+                            "convert writes one from the other formats)");
+  }
+  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "-o " + out.string() + " is a file: -o names the COLMAP model's folder");
+  }
+  std::optional<Similarity> given;
+  if (!a.transform.empty()) {
+    Expected<Similarity> t = parse_transform(a.transform);
+    if (!t) return report_error(t.error());
+    given = *t;
+  }
+  Expected<std::vector<ColmapImage>> images = read_colmap_model(a.cameras);
+  if (!images) return report_error(images.error());
+  Expected<std::vector<Vec3>> points = read_colmap_points(a.cameras);
+  if (!points) return report_error(points.error());
+  RunOptions run;
+  run.threads = a.threads;
+  Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
+  if (!mesh) return report_error(mesh.error());
+
+  ModelFit fit;
+  if (given) {
+    fit.transform = *given;
+    std::vector<Vec3> moved;
+    for (const Vec3& p : *points) moved.push_back(given->apply(p));
+    Expected<ModelAlignment> before = measure_model_alignment(mesh->mesh, *points, a.threads);
+    Expected<ModelAlignment> after = measure_model_alignment(mesh->mesh, moved, a.threads);
+    if (!before) return report_mesh_error(before.error(), a.mesh);
+    if (!after) return report_mesh_error(after.error(), a.mesh);
+    fit.before = *before;
+    fit.after = *after;
+  } else {
+    Expected<ModelFit> found = fit_model_to_mesh(mesh->mesh, *points, a.threads);
+    if (!found) {
+      Error e = found.error();
+      e.message = a.cameras + ": " + e.message;
+      return report_error(e);
+    }
+    fit = *found;
+    if (fit.after.verdict == AlignmentVerdict::kMisaligned) {
+      return report_error(ErrorCode::kParse,
+                          a.cameras + ": no similarity brings the model's sparse points onto " +
+                              a.mesh + " (best: " + alignment_figures(fit.after) +
+                              "); give the transform with --transform");
+    }
+  }
+  for (ColmapImage& image : *images) {
+    Expected<CameraProjector> moved = transform_camera(image.camera, fit.transform);
+    if (!moved) return report_error(moved.error());
+    image.camera = std::move(*moved);
+  }
+  std::vector<Vec3> moved_points;
+  for (const Vec3& p : *points) moved_points.push_back(fit.transform.apply(p));
+  if (Status s = write_colmap_model(out, *images, a.binary, nullptr, moved_points); !s) {
+    return report_error(s.error());
+  }
+  if (fit.after.verdict == AlignmentVerdict::kDoubtful ||
+      (given && fit.after.verdict == AlignmentVerdict::kMisaligned)) {
+    std::fprintf(stderr, "texbake: warning: %s: the aligned model %s in the frame of %s: %s\n",
+                 out.c_str(),
+                 fit.after.verdict == AlignmentVerdict::kMisaligned ? "is not" : "may not be",
+                 a.mesh.c_str(), alignment_figures(fit.after).c_str());
+  }
+  std::printf("aligned %zu images and %zu sparse points of %s to %s -> %s\n", images->size(),
+              points->size(), a.cameras.c_str(), a.mesh.c_str(), out.c_str());
+  std::printf("transform: %s (scale %.6g)\n", transform_text(fit.transform).c_str(),
+              fit.transform.scale);
+  if (fit.before.verdict != AlignmentVerdict::kNotMeasured) {
+    std::printf("before: %s\nafter: %s\n", alignment_figures(fit.before).c_str(),
+                alignment_figures(fit.after).c_str());
   }
   return 0;
 }
@@ -220,8 +357,34 @@ RunFunction add_cameras_command(CLI::App& app) {
                       "label without an extension gets its photo's");
   convert->add_flag("--binary", convert_args->binary,
                     "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
-  return [args, convert_args, check] {
+  auto align_args = std::make_shared<AlignArgs>();
+  CLI::App* align = cmd->add_subcommand(
+      "align",
+      "Bring a COLMAP model into the mesh's frame: the similarity (scale, rotation, "
+      "translation) that puts its sparse points on the mesh's surface (found from the points' "
+      "principal axes and refined by trimmed ICP with scale), or the one --transform gives, "
+      "applied to every pose and point; written as a COLMAP model.");
+  align->add_option("mesh", align_args->mesh, "the mesh (.obj, .ply, .off, .stl, .glb, .gltf)")
+      ->required();
+  align->add_option("--cameras", align_args->cameras, "the COLMAP sparse model folder to align")
+      ->required();
+  align
+      ->add_option("-o,--output", align_args->output,
+                   "the aligned model's folder (created if missing; a model of the other form "
+                   "there is replaced)")
+      ->required();
+  align
+      ->add_option("--transform", align_args->transform,
+                   "a known similarity instead of the fit: a 4x4 matrix, 16 numbers row by row "
+                   "(model to mesh; the last row 0,0,0,1), as align prints it")
+      ->type_name("M00,M01,...,M33");
+  align->add_flag("--binary", align_args->binary,
+                  "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
+  align->add_option("--threads", align_args->threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  return [args, convert_args, align_args, check, align] {
     if (check->parsed()) return run_check(*args);
+    if (align->parsed()) return run_align(*align_args);
     return run_convert(*convert_args);
   };
 }

@@ -17,10 +17,12 @@
 // count.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <span>
 #include <string>
 
+#include "mapping/camera.h"
 #include "mapping/error.h"
 #include "mapping/vec.h"
 #include "mesh_io/mesh_data.h"
@@ -61,5 +63,54 @@ std::string alignment_figures(const ModelAlignment& a);
 
 // "aligned", "doubtful", "misaligned", "not measured".
 const char* to_string(AlignmentVerdict verdict);
+
+// ---- Bringing a model into the mesh's frame (texbake cameras align) ----
+
+// A similarity X' = scale R X + t (R a rotation, row by row).
+struct Similarity {
+  double scale = 1;
+  std::array<double, 9> r{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  Vec3 t;
+
+  Vec3 apply(Vec3 x) const {
+    return Vec3{r[0] * x.x + r[1] * x.y + r[2] * x.z, r[3] * x.x + r[4] * x.y + r[5] * x.z,
+                r[6] * x.x + r[7] * x.y + r[8] * x.z} *
+               scale +
+           t;
+  }
+};
+
+// A 4x4 matrix (16 numbers, row by row) as a similarity: the last row
+// 0 0 0 1, the upper 3x3 a positive scale times a rotation (columns
+// orthogonal and of equal length within 1e-6 relative, determinant > 0).
+// Errors (kInvalidArgument) name `what` and say which condition fails.
+Expected<Similarity> similarity_from_matrix(std::span<const double> m, const std::string& what);
+
+// The camera seeing the world moved by `s` as it saw the world before: the
+// world-to-camera pose R_c, t_c becomes R_c R^T, scale t_c - R_c R^T t (the
+// centre C becomes s(C)); the intrinsics are kept.
+Expected<CameraProjector> transform_camera(const CameraProjector& camera, const Similarity& s);
+
+struct ModelFit {
+  Similarity transform;    // model -> mesh
+  ModelAlignment before;   // the points as given
+  ModelAlignment after;    // the points moved by `transform`
+  double trimmed_rms = 0;  // of the best 70 % of the points, relative to the diagonal
+  int candidates = 0;      // initial guesses tried
+};
+
+// The similarity that brings a model's sparse points onto the surface of
+// `mesh`: a global initial guess (the principal axes and spread of the
+// points against those of the surface, each of the 24 ways to match the
+// axes with a proper rotation), each refined by trimmed ICP with scale
+// (closest points on the triangles, CGAL; the 70 % nearest kept;
+// point-to-point steps by Umeyama's least-squares similarity, Eigen), the
+// best three refined further, point-to-point then point-to-plane (the
+// linearised similarity step along the surface normals), the one of least
+// trimmed RMS kept. At most 10000 points are used (evenly strided; 1500 for
+// the 24 guesses). Errors: kInvalidArgument (fewer than kAlignmentMinPoints
+// points, a mesh without area), kInternal.
+Expected<ModelFit> fit_model_to_mesh(const MeshData& mesh, std::span<const Vec3> points,
+                                     int threads = 0);
 
 }  // namespace texbake

@@ -293,8 +293,9 @@ class JobRun {
         return make_error(ErrorCode::kParse,
                           model + ": the model is not in the frame of " + job_.mesh.string() +
                               ": " + alignment_figures(*a) +
-                              ". Align it to the mesh first (e.g. COLMAP's model_aligner with "
-                              "known camera centres), or bake anyway with --no-alignment-check");
+                              ". Align it to the mesh first (texbake cameras align " +
+                              job_.mesh.string() + " --cameras " + model +
+                              " -o ALIGNED), or bake anyway with --no-alignment-check");
       case AlignmentVerdict::kDoubtful:
         warn(model + ": the model may not be in the frame of " + job_.mesh.string() + ": " +
              alignment_figures(*a) + " (--no-alignment-check: no check)");

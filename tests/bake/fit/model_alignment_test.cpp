@@ -10,8 +10,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
+#include "mesh_io/read_mesh.h"
 #include "tests/bake/test_meshes.h"
 
 namespace texbake {
@@ -119,6 +121,109 @@ TEST(ModelAlignment, AMeshWithoutAreaIsAnError) {
   Expected<ModelAlignment> a = measure_model_alignment(flat, points);
   ASSERT_FALSE(a);
   EXPECT_EQ(a.error().code, ErrorCode::kInvalidArgument);
+}
+
+// 2 * (rotation by 90 degrees about +z) + (1, 2, 3), row by row.
+const std::vector<double> kTwiceQuarterTurn = {0, -2, 0, 1, 2, 0, 0, 2, 0, 0, 2, 3, 0, 0, 0, 1};
+
+TEST(Similarity, FromAMatrixAndItsRefusals) {
+  Expected<Similarity> s = similarity_from_matrix(kTwiceQuarterTurn, "--transform");
+  ASSERT_TRUE(s) << s.error().message;
+  EXPECT_NEAR(s->scale, 2, 1e-15);
+  // (1, 0, 0) turns to (0, 1, 0), doubles to (0, 2, 0), moves to (1, 4, 3).
+  const Vec3 x = s->apply({1, 0, 0});
+  EXPECT_NEAR(x.x, 1, 1e-14);
+  EXPECT_NEAR(x.y, 4, 1e-14);
+  EXPECT_NEAR(x.z, 3, 1e-14);
+  std::vector<double> m = kTwiceQuarterTurn;
+  m.pop_back();
+  EXPECT_FALSE(similarity_from_matrix(m, "--transform"));  // 15 numbers
+  m = kTwiceQuarterTurn;
+  m[12] = 1;
+  EXPECT_FALSE(similarity_from_matrix(m, "--transform"));  // a projection
+  m = kTwiceQuarterTurn;
+  m[10] = -2;
+  Expected<Similarity> mirror = similarity_from_matrix(m, "--transform");
+  ASSERT_FALSE(mirror);
+  EXPECT_NE(mirror.error().message.find("no mirroring"), std::string::npos);
+  m = kTwiceQuarterTurn;
+  m[2] = 0.5;  // a shear
+  Expected<Similarity> shear = similarity_from_matrix(m, "--transform");
+  ASSERT_FALSE(shear);
+  EXPECT_NE(shear.error().message.find("not a scale times a rotation"), std::string::npos);
+}
+
+TEST(Similarity, AMovedCameraSeesTheMovedWorldAsBefore) {
+  // A pinhole at (0, 0, -5) looking down +z; the point (0.3, -0.2, 1).
+  Expected<CameraProjector> camera =
+      CameraProjector::make({CameraModel::kPinhole,
+                             640,
+                             480,
+                             {500, 500, 320, 240},
+                             CameraPose{{1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 0, 5}}});
+  ASSERT_TRUE(camera);
+  const Similarity s = similarity_from_matrix(kTwiceQuarterTurn, "m").value();
+  Expected<CameraProjector> moved = transform_camera(*camera, s);
+  ASSERT_TRUE(moved) << moved.error().message;
+  // The centre moves with the world: s(0, 0, -5) = 2 (0, 0, -5) + (1, 2, 3) = (1, 2, -7).
+  EXPECT_NEAR(moved->centre().x, 1, 1e-12);
+  EXPECT_NEAR(moved->centre().y, 2, 1e-12);
+  EXPECT_NEAR(moved->centre().z, -7, 1e-12);
+  // Before: (0.3, -0.2, 1) at depth 6 lands on (320 + 500 * 0.05, 240 - 500 / 30).
+  const Vec3 p{0.3, -0.2, 1};
+  const CameraProjection a = camera->project(p), b = moved->project(s.apply(p));
+  ASSERT_TRUE(a.inside && b.inside);
+  EXPECT_NEAR(a.pixel.x, 345, 1e-9);
+  EXPECT_NEAR(a.pixel.y, 240 - 500.0 / 30, 1e-9);
+  EXPECT_NEAR(b.pixel.x, a.pixel.x, 1e-9);
+  EXPECT_NEAR(b.pixel.y, a.pixel.y, 1e-9);
+}
+
+TEST(ModelFit, ABunnyModelMovedAwayIsBroughtBack) {
+  Expected<LoadedMesh> bunny = read_mesh(std::string(TEXBAKE_DATA_DIR) + "/bunny00.off");
+  ASSERT_TRUE(bunny) << bunny.error().message;
+  const MeshData& mesh = bunny->mesh;
+  // The model's frame: scale 0.4, a third of a turn about (1, 1, 1) (which
+  // cycles the axes: x -> y -> z -> x), then (5, -2, 1).
+  const Similarity away =
+      similarity_from_matrix(
+          std::vector<double>{0, 0, 0.4, 5, 0.4, 0, 0, -2, 0, 0.4, 0, 1, 0, 0, 0, 1}, "m")
+          .value();
+  std::vector<Vec3> points, truth;
+  for (std::size_t i = 0; i < mesh.positions.size(); i += 3) {
+    const Vec3 v{mesh.positions[i].x, mesh.positions[i].y, mesh.positions[i].z};
+    truth.push_back(v);
+    points.push_back(away.apply(v));
+  }
+  // 15 % of background points, scattered around the model (a fixed LCG).
+  uint64_t state = 12345;
+  auto uniform = [&] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  const std::size_t background = points.size() * 15 / 100;
+  for (std::size_t i = 0; i < background; ++i) {
+    points.push_back(
+        away.apply({uniform() * 0.6 - 0.3, uniform() * 0.6 - 0.3, uniform() * 0.6 - 0.3}));
+  }
+  Expected<ModelFit> fit = fit_model_to_mesh(mesh, points, 2);
+  ASSERT_TRUE(fit) << fit.error().message;
+  EXPECT_EQ(fit->before.verdict, AlignmentVerdict::kMisaligned);
+  EXPECT_EQ(fit->after.verdict, AlignmentVerdict::kAligned) << alignment_figures(fit->after);
+  EXPECT_EQ(fit->candidates, 24);
+  // The fit is the inverse of `away`: the bunny's own points come back.
+  double worst = 0, diagonal = 0;
+  Vec3 lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+  for (const Vec3& v : truth) {
+    lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+    hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+  }
+  diagonal = length(hi - lo);
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    worst = std::max(worst, length(fit->transform.apply(points[i]) - truth[i]));
+  }
+  EXPECT_LT(worst, 2e-3 * diagonal) << "scale " << fit->transform.scale;
+  EXPECT_NEAR(fit->transform.scale, 2.5, 2.5e-3);
 }
 
 }  // namespace
