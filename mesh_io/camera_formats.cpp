@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "mesh_io/json_strict.h"
+#include "mesh_io/meshroom_sfm.h"
 #include "mesh_io/metashape_xml.h"
 #include "mesh_io/nerfstudio_json.h"
 #include "mesh_io/regular_file.h"
@@ -18,6 +19,8 @@ std::string_view camera_format_name(CameraFormat format) {
       return "nerfstudio transforms.json";
     case CameraFormat::kMetashape:
       return "Metashape cameras.xml";
+    case CameraFormat::kMeshroom:
+      return "Meshroom .sfm";
   }
   return "camera file";
 }
@@ -39,17 +42,15 @@ Expected<CameraFile> camera_file_from_text(std::string_view text, const std::str
     return CameraFile{CameraFormat::kCameraList, std::move(list).value(), {}};
   }
   if (root->contains("views") && (root->contains("intrinsics") || root->contains("poses"))) {
-    return make_error(ErrorCode::kParse,
-                      source +
-                          ": a Meshroom / AliceVision .sfm file, which texbake does not read "
-                          "yet");
+    return meshroom_from_json(text, source);
   }
   return make_error(
       ErrorCode::kParse,
       source +
           ": not a camera file texbake reads: a texbake camera list has the key "
-          "'cameras', a nerfstudio / instant-ngp transforms.json 'frames'; a Metashape "
-          "cameras.xml is XML (a COLMAP model is given as its folder)");
+          "'cameras', a nerfstudio / instant-ngp transforms.json 'frames', a Meshroom .sfm "
+          "'views' with 'intrinsics' and 'poses'; a Metashape cameras.xml is XML (a COLMAP model "
+          "is given as its folder)");
 }
 
 std::filesystem::path camera_photo_path(CameraFormat format, const std::string& image,

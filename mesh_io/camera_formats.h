@@ -3,6 +3,8 @@
 //   texbake's JSON camera list   {"cameras": [...]}   (mesh_io/camera_json.h)
 //   nerfstudio / instant-ngp     {"frames": [...]}     (mesh_io/nerfstudio_json.h)
 //   Agisoft Metashape XML        <document><chunk>...  (mesh_io/metashape_xml.h)
+//   Meshroom / AliceVision .sfm  {"views": [...], "intrinsics" or "poses"}
+//                                                      (mesh_io/meshroom_sfm.h)
 // Each is read into texbake's one camera form (mapping/camera.h: COLMAP's
 // models, OpenCV axes, world-to-camera) with the photo's name as the file
 // gives it.
@@ -18,9 +20,10 @@
 
 namespace texbake {
 
-enum class CameraFormat { kCameraList, kNerfstudio, kMetashape };
+enum class CameraFormat { kCameraList, kNerfstudio, kMetashape, kMeshroom };
 
-// "texbake camera list", "nerfstudio transforms.json", "Metashape cameras.xml".
+// "texbake camera list", "nerfstudio transforms.json", "Metashape cameras.xml",
+// "Meshroom .sfm".
 std::string_view camera_format_name(CameraFormat format);
 
 struct CameraFile {

@@ -273,6 +273,13 @@ int run_convert(const ConvertArgs& a) {
       // A Metashape label gets the extension of the photo found for it.
       std::string name = std::move(entry.image);
       const fs::path photo = camera_photo_path(file->format, name, base);
+      // An absolute path (Meshroom's) inside the photos' folder becomes
+      // relative to it, as the model's names are.
+      if (fs::path(name).is_absolute()) {
+        const fs::path rel = fs::path(name).lexically_normal().lexically_relative(
+            fs::absolute(base, ec).lexically_normal());
+        if (!rel.empty() && *rel.begin() != "..") name = rel.generic_string();
+      }
       if (!fs::path(name).has_extension()) {
         if (photo.has_extension()) {
           name += photo.extension().string();
@@ -330,7 +337,8 @@ RunFunction add_cameras_command(CLI::App& app) {
       ->add_option(
           "--cameras", args->cameras,
           "a COLMAP sparse model folder or a camera file: a JSON camera list, a "
-          "nerfstudio / instant-ngp transforms.json or a Metashape cameras.xml (as bake --cameras)")
+          "nerfstudio / instant-ngp transforms.json, a Metashape cameras.xml or a Meshroom / "
+          "AliceVision .sfm (as bake --cameras)")
       ->required();
   check->add_option("--images", args->images,
                     "the photos' folder (not needed: the check reads no photo; accepted as in "
@@ -341,7 +349,8 @@ RunFunction add_cameras_command(CLI::App& app) {
   CLI::App* convert = cmd->add_subcommand(
       "convert",
       "Write the cameras of any format --cameras reads (a COLMAP model, a JSON camera list, a "
-      "nerfstudio / instant-ngp transforms.json, a Metashape cameras.xml) as a COLMAP model: "
+      "nerfstudio / instant-ngp transforms.json, a Metashape cameras.xml, a Meshroom .sfm) as a "
+      "COLMAP model: "
       "cameras, images and an "
       "empty points3D, all written or none.");
   convert->add_option("IN", convert_args->input, "the cameras: a COLMAP model folder or a file")
@@ -353,8 +362,9 @@ RunFunction add_cameras_command(CLI::App& app) {
       ->required();
   convert->add_option("--images", convert_args->images,
                       "the photos' folder, which the images' names are made relative to "
-                      "(default: the camera file's folder, as bake --cameras); a Metashape "
-                      "label without an extension gets its photo's");
+                      "(default: the camera file's folder, as bake --cameras; an absolute path "
+                      "inside it is made relative); a Metashape label without an extension "
+                      "gets its photo's");
   convert->add_flag("--binary", convert_args->binary,
                     "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
   auto align_args = std::make_shared<AlignArgs>();

@@ -114,8 +114,8 @@ const JobOption kOtherRows[] = {
     {"cameras", "--cameras", "", T::kPath, "PATH", "", "", kPhotos,
      "bake from calibrated photos instead of --texture and a proxy: a COLMAP sparse model folder "
      "(cameras + images .txt or .bin) or a camera file, told by its content: a JSON camera "
-     "list, a nerfstudio / instant-ngp transforms.json or a Metashape cameras.xml (vertex or "
-     "atlas target)"},
+     "list, a nerfstudio / instant-ngp transforms.json, a Metashape cameras.xml or a Meshroom / "
+     "AliceVision cameras.sfm (vertex or atlas target)"},
     {"images", "--images", "", T::kPath, "DIR", "images/ beside sparse/", "", kPhotos,
      "--cameras: the photos' folder (default: a COLMAP workspace's images/ beside sparse/, or "
      "the camera file's folder)"},

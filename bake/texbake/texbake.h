@@ -327,7 +327,7 @@ enum class PhotoFolder { kNeeded, kNotNeeded };
 // (cameras.txt + images.txt or the .bin pair, mesh_io/colmap_model.h) or a
 // camera file of any format mesh_io/camera_formats.h reads (texbake's JSON
 // camera list, nerfstudio / instant-ngp transforms.json, Metashape
-// cameras.xml), told by its
+// cameras.xml, Meshroom / AliceVision .sfm), told by its
 // content. Photos are looked up in `images` when given; otherwise, for a
 // COLMAP model, in the `images` folder of the workspace whose `sparse/`
 // holds the model (COLMAP's layout: W/sparse/0 -> W/images), and for a

@@ -2,11 +2,13 @@
 // "Formats"): a COLMAP workspace written by `render --colmap`, its model
 // re-written by hand as ns-process-data writes a nerfstudio transforms.json
 // (camera-to-world, OpenGL axes, the world re-framed by applied_transform),
-// baked and checked as the COLMAP model is; `cameras convert` into a COLMAP
+// as Metashape and as Meshroom write their cameras, baked and checked as the
+// COLMAP model is; `cameras convert` into a COLMAP
 // model that projects as the input does; errors with no output.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -358,6 +360,111 @@ TEST_F(CameraFormatsCli, MetashapeCamerasBakeAsTheirColmapModel) {
   EXPECT_NE(r.err.find("4 labels have no extension and no photo of that name was found"),
             std::string::npos)
       << r.err;
+}
+
+TEST_F(CameraFormatsCli, MeshroomCamerasBakeAsTheirColmapModel) {
+  const fs::path& d = *dir_;
+  // ws/sparse/0 written as Meshroom's StructureFromMotion writes cameras.sfm
+  // (SfMData version 1.2.11, every value a string): the focal in mm on a
+  // 36 mm wide sensor (fy = focalLength w / sensorWidth, fx = fy /
+  // pixelRatio), the principal point as an offset from the image centre in
+  // AliceVision's pixels (COLMAP's minus 0.5), the world-to-camera rotation
+  // column by column with the centre, absolute photo paths; one more view
+  // not reconstructed (its pose is not in the file).
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(d / "ws/sparse/0");
+  ASSERT_TRUE(model);
+  const CameraSpec& s0 = (*model)[0].camera.spec();
+  ASSERT_EQ(s0.model, CameraModel::kPinhole);
+  const auto str = [](double v) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return std::string(buf);
+  };
+  const double w = s0.width, h = s0.height;
+  nlohmann::json in = {
+      {"intrinsicId", "1"},
+      {"width", std::to_string(s0.width)},
+      {"height", std::to_string(s0.height)},
+      {"sensorWidth", "36"},
+      {"sensorHeight", str(36 * h / w)},
+      {"type", "pinhole"},
+      {"focalLength", str(s0.params[1] * 36 / w)},
+      {"pixelRatio", str(s0.params[1] / s0.params[0])},
+      {"principalPoint", {str(s0.params[2] - 0.5 - w / 2), str(s0.params[3] - 0.5 - h / 2)}},
+      {"distortionParams", nlohmann::json::array()},
+      {"distortionType", "none"},
+      {"undistortionType", "none"},
+      {"locked", "false"}};
+  nlohmann::json j = {{"version", {"1", "2", "11"}},
+                      {"featuresFolders", {(d / "features").string()}},
+                      {"matchesFolders", {(d / "matches").string()}},
+                      {"intrinsics", {in}}};
+  j["views"] = nlohmann::json::array();
+  j["poses"] = nlohmann::json::array();
+  for (const ColmapImage& image : *model) {
+    const CameraPose& pose = image.camera.spec().pose;
+    const std::string id = std::to_string(1000 + image.image_id);
+    j["views"].push_back({{"viewId", id},
+                          {"poseId", id},
+                          {"frameId", std::to_string(image.image_id)},
+                          {"intrinsicId", "1"},
+                          {"path", fs::absolute(d / "ws/images" / image.name).string()},
+                          {"width", std::to_string(s0.width)},
+                          {"height", std::to_string(s0.height)}});
+    nlohmann::json rotation = nlohmann::json::array();
+    for (int col = 0; col < 3; ++col) {
+      for (int row = 0; row < 3; ++row) rotation.push_back(str(pose.r[3 * row + col]));
+    }
+    const Vec3 c = image.camera.centre();
+    j["poses"].push_back(
+        {{"poseId", id},
+         {"pose",
+          {{"transform", {{"rotation", rotation}, {"center", {str(c.x), str(c.y), str(c.z)}}}},
+           {"locked", "0"}}}});
+  }
+  j["views"].push_back({{"viewId", "9"},
+                        {"poseId", "9"},
+                        {"intrinsicId", "1"},
+                        {"path", (d / "ws/images/missing.png").string()}});
+  std::ofstream(d / "cameras.sfm") << j.dump(4);
+  Expected<CameraFile> file = read_camera_file(d / "cameras.sfm");
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_EQ(file->format, CameraFormat::kMeshroom);
+  std::vector<CameraProjector> from_file;
+  for (const CameraListEntry& e : file->cameras) from_file.push_back(e.camera);
+  expect_same_projections(from_file, colmap_cameras(d / "ws/sparse/0"));
+  // Baked with the photos at their absolute paths.
+  const std::string bunny = q(kData + "/bunny00.off");
+  testing_cli::RunResult r = run_texbake("bake " + bunny + " --cameras " + q(d / "cameras.sfm") +
+                                         " -o " + q(d / "mr.ply") + " --strict-photos");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("1 view is not reconstructed (no pose) and left out"), std::string::npos)
+      << r.err;
+  testing_cli::RunResult colmap = run_texbake("bake " + bunny + " --cameras " +
+                                              q(d / "ws/sparse/0") + " -o " + q(d / "colmap3.ply"));
+  ASSERT_EQ(colmap.exit_code, 0) << colmap.err;
+  Expected<LoadedMesh> a = read_mesh(d / "colmap3.ply");
+  Expected<LoadedMesh> b = read_mesh(d / "mr.ply");
+  ASSERT_TRUE(a && b);
+  ASSERT_EQ(a->mesh.vertex_colors.size(), b->mesh.vertex_colors.size());
+  for (std::size_t i = 0; i < a->mesh.vertex_colors.size(); ++i) {
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_NEAR(a->mesh.vertex_colors[i][c], b->mesh.vertex_colors[i][c], 1.01 / 255) << i;
+    }
+  }
+  // Converted: the same projections; the absolute paths made relative to
+  // --images, so the model bakes with --images as COLMAP's does.
+  r = run_texbake("cameras convert " + q(d / "cameras.sfm") + " -o " + q(d / "mrconv") +
+                  " --images " + q(d / "ws/images"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("from a Meshroom .sfm"), std::string::npos) << r.out;
+  expect_same_projections(colmap_cameras(d / "mrconv"), from_file);
+  Expected<std::vector<ColmapImage>> conv = read_colmap_model(d / "mrconv");
+  ASSERT_TRUE(conv);
+  EXPECT_EQ((*conv)[0].name, "view_00.png");
+  r = run_texbake("bake " + bunny + " --cameras " + q(d / "mrconv") + " --images " +
+                  q(d / "ws/images") + " -o " + q(d / "mrconv.ply") + " --strict-photos");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
 }  // namespace

@@ -224,12 +224,12 @@ TEST(CameraFormats, TheFormatIsToldByTheContent) {
   ASSERT_FALSE(f);
   EXPECT_EQ(f.error().message.rfind("x.dat: not a camera file texbake reads", 0), 0u)
       << f.error().message;
-  // Meshroom's cameras.sfm is named as such, not read yet.
+  // Meshroom's cameras.sfm goes to its reader (mesh_io/meshroom_sfm.h).
   f = camera_file_from_text(R"({"version":["1","2","4"],"views":[],"intrinsics":[],"poses":[]})",
                             "cameras.sfm");
   ASSERT_FALSE(f);
   EXPECT_EQ(f.error().message,
-            "cameras.sfm: a Meshroom / AliceVision .sfm file, which texbake does not read yet");
+            "cameras.sfm: no reconstructed view (no view's poseId names a pose)");
   // A file of a COLMAP model is not taken for a camera file.
   const std::filesystem::path dir = test::fresh_temp_dir("camera-formats");
   f = read_camera_file(test::write_text(dir / "cameras.txt", "1 PINHOLE 2 2 1 1 1 1\n"));
