@@ -323,7 +323,9 @@ int run_convert(const ConvertArgs& a) {
 RunFunction add_cameras_command(CLI::App& app) {
   auto args = std::make_shared<CamerasArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "cameras", "Check calibrated cameras against a mesh, or convert them to a COLMAP model.");
+      "cameras",
+      "Check calibrated cameras against a mesh, align a COLMAP model to it, or convert cameras "
+      "to a COLMAP model.");
   cmd->require_subcommand(1);
   auto convert_args = std::make_shared<ConvertArgs>();
   CLI::App* check = cmd->add_subcommand(
