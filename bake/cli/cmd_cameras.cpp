@@ -60,8 +60,6 @@ int run_check(const CamerasArgs& a) {
   // The model's sparse points against the mesh (a COLMAP model with points3D).
   Expected<ModelAlignment> alignment = check_model_alignment(mesh->mesh, a.cameras, run);
   if (!alignment) return report_mesh_error(alignment.error(), a.mesh);
-  std::size_t warned = 0;
-  for (const CameraCheck& c : *checks) warned += !c.warnings.empty();
   if (a.json) {
     nlohmann::ordered_json j = nlohmann::ordered_json::array();
     for (const CameraCheck& c : *checks) {
@@ -97,6 +95,25 @@ int run_check(const CamerasArgs& a) {
     }
   }
   return 0;
+}
+
+// Before writing a COLMAP model into `out` (-o): its files, and those of the
+// other form, which the write removes, may be none of `inputs` (a model
+// written into its own folder), and `out` must be a folder if it exists.
+Status check_model_output(std::vector<NamedFile> inputs, const std::filesystem::path& out) {
+  std::vector<NamedFile> written;
+  for (const char* stem : {"cameras", "images", "points3D"}) {
+    for (const char* ext : {".txt", ".bin"}) {
+      written.push_back({"-o", out / (std::string(stem) + ext)});
+    }
+  }
+  if (Status s = check_distinct_files(inputs, written); !s) return s;
+  std::error_code ec;
+  if (std::filesystem::exists(out, ec) && !std::filesystem::is_directory(out, ec)) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "-o " + out.string() + " is a file: -o names the COLMAP model's folder");
+  }
+  return ok_status();
 }
 
 // texbake cameras align MESH --cameras MODEL -o OUT [--transform M] [--binary]
@@ -142,25 +159,15 @@ std::string transform_text(const Similarity& s) {
 int run_align(const AlignArgs& a) {
   namespace fs = std::filesystem;
   const fs::path out = a.output;
-  std::vector<NamedFile> written;
-  for (const char* stem : {"cameras", "images", "points3D"}) {
-    for (const char* ext : {".txt", ".bin"}) {
-      written.push_back({"-o", out / (std::string(stem) + ext)});
-    }
-  }
   std::vector<NamedFile> inputs = camera_files(a.cameras, {}, "--cameras");
   inputs.push_back({"MESH", a.mesh});
-  if (Status s = check_distinct_files(inputs, written); !s) return report_error(s.error());
+  if (Status s = check_model_output(inputs, out); !s) return report_error(s.error());
   std::error_code ec;
   if (!fs::is_directory(a.cameras, ec)) {
     return report_error(ErrorCode::kInvalidArgument,
                         "--cameras " + a.cameras +
                             ": cameras align takes a COLMAP model folder (texbake cameras "
                             "convert writes one from the other formats)");
-  }
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
-    return report_error(ErrorCode::kInvalidArgument,
-                        "-o " + out.string() + " is a file: -o names the COLMAP model's folder");
   }
   std::optional<Similarity> given;
   if (!a.transform.empty()) {
@@ -234,22 +241,10 @@ int run_align(const AlignArgs& a) {
 int run_convert(const ConvertArgs& a) {
   namespace fs = std::filesystem;
   const fs::path out = a.output;
-  // The model's files, and those of the other form, which the write
-  // removes: none may be an input (converting a model into its own folder).
-  std::vector<NamedFile> written;
-  for (const char* stem : {"cameras", "images", "points3D"}) {
-    for (const char* ext : {".txt", ".bin"}) {
-      written.push_back({"-o", out / (std::string(stem) + ext)});
-    }
-  }
-  if (Status s = check_distinct_files(camera_files(a.input, {}, "IN"), written); !s) {
+  if (Status s = check_model_output(camera_files(a.input, {}, "IN"), out); !s) {
     return report_error(s.error());
   }
   std::error_code ec;
-  if (fs::exists(out, ec) && !fs::is_directory(out, ec)) {
-    return report_error(ErrorCode::kInvalidArgument,
-                        "-o " + out.string() + " is a file: -o names the COLMAP model's folder");
-  }
   std::vector<ColmapImage> images;
   std::vector<std::string> notes;
   std::string format = "COLMAP model";

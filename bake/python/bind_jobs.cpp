@@ -99,7 +99,6 @@ py::dict run_job_json(const std::string& json, py::object progress) {
   }
   PyRun run(py::int_(0), std::move(progress));
   job.progress = run.run.progress;
-  std::vector<std::string> warnings;
   JobResult result;
   {
     py::gil_scoped_release release;

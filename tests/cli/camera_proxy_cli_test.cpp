@@ -137,14 +137,8 @@ class CameraProxyPhotos : public ::testing::Test {
                         ("texbake_camera_proxy_" + std::to_string(::getpid())));
     fs::remove_all(*dir_);
     fs::create_directories(*dir_);
-    const std::string bunny = q(kData + "/bunny00.off");
-    ASSERT_EQ(
-        run_texbake("fit " + bunny + " --proxy sphere --up y -o " + q(*dir_ / "s.json")).exit_code,
-        0);
-    const testing_cli::RunResult r = run_texbake(
-        "render " + bunny + " --texture " + q(kData + "/earth.jpg") + " --proxy-file " +
-        q(*dir_ / "s.json") + " --up y --unlit --views 6 --samples 1 --size 320x240 --colmap " +
-        q(*dir_ / "ws"));
+    const testing_cli::RunResult r =
+        testing_cli::render_bunny_workspace(*dir_, 6, "320x240", " --samples 1");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     Expected<std::vector<ColmapImage>> model = read_colmap_model(*dir_ / "ws/sparse/0");
     ASSERT_TRUE(model) << model.error().message;

@@ -88,4 +88,20 @@ inline RunResult run_texbake(const std::string& args_quoted) {
   return run_command(shell_quote(TEXBAKE_BINARY) + " " + args_quoted);
 }
 
+// The photographs of the photo tests: the bunny with the Earth map through
+// its fitted sphere (+Y up, written to DIR/s.json), rendered unlit from
+// `views` views of `size` pixels ("320x240"; `extra` more render flags) as a
+// COLMAP workspace DIR/ws. The fit's or the render's result when one fails.
+inline RunResult render_bunny_workspace(const std::filesystem::path& dir, int views,
+                                        const std::string& size, const std::string& extra = "") {
+  const std::string bunny = shell_quote(std::string(TEXBAKE_DATA_DIR) + "/bunny00.off");
+  RunResult fit =
+      run_texbake("fit " + bunny + " --proxy sphere --up y -o " + quoted(dir / "s.json"));
+  if (fit.exit_code != 0) return fit;
+  return run_texbake("render " + bunny + " --texture " +
+                     shell_quote(std::string(TEXBAKE_DATA_DIR) + "/earth.jpg") + " --proxy-file " +
+                     quoted(dir / "s.json") + " --up y --unlit --views " + std::to_string(views) +
+                     extra + " --size " + size + " --colmap " + quoted(dir / "ws"));
+}
+
 }  // namespace texbake::testing_cli
