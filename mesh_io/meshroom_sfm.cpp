@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 
+#include "mesh_io/camera_format_text.h"
 #include "mesh_io/json_strict.h"
 
 namespace texbake {
@@ -17,15 +18,8 @@ namespace {
 
 using nlohmann::json;
 
-std::string show(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
-Error fail(const std::string& where, const std::string& what) {
-  return make_error(ErrorCode::kParse, where + ": " + what);
-}
+using camera_text::fail;
+using camera_text::show;
 
 // A number as AliceVision writes it: a JSON string holding it (boost's
 // property tree), or a JSON number.

@@ -8,15 +8,13 @@
 #include <pugixml.hpp>
 #include <set>
 
+#include "mesh_io/camera_format_text.h"
+
 namespace texbake {
 
 namespace {
 
-std::string show(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
+using camera_text::show;
 
 class Reader {
  public:

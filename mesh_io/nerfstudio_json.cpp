@@ -6,6 +6,7 @@
 #include <numbers>
 #include <optional>
 
+#include "mesh_io/camera_format_text.h"
 #include "mesh_io/json_strict.h"
 
 namespace texbake {
@@ -31,15 +32,8 @@ constexpr const char* kRefusedKeys[] = {"k5",
                                         "transform_matrix_start",
                                         "transform_matrix_end"};
 
-std::string show(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.9g", v);
-  return buf;
-}
-
-Error fail(const std::string& where, const std::string& what) {
-  return make_error(ErrorCode::kParse, where + ": " + what);
-}
+using camera_text::fail;
+using camera_text::show;
 
 // A frame's view of the intrinsics: its own keys, else the top level's.
 class Keys {

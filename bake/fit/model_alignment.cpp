@@ -79,16 +79,12 @@ Status build_surface(const MeshData& mesh, Surface& s) {
   return ok_status();
 }
 
-}  // namespace
-
-Expected<ModelAlignment> measure_model_alignment(const MeshData& mesh, std::span<const Vec3> points,
-                                                 int threads) {
+// measure_model_alignment on a surface already built (fit_model_to_mesh
+// measures before and after on the one it fits to).
+ModelAlignment measure_on(const Surface& surface, std::span<const Vec3> points, int threads) {
   ModelAlignment a;
   a.points = points.size();
   if (points.size() < kAlignmentMinPoints) return a;  // too few to judge
-
-  Surface surface;
-  if (Status s = build_surface(mesh, surface); !s) return s.error();
   const Vec3 lo = surface.lo, hi = surface.hi;
   const double diagonal = surface.diagonal;
   const double margin = kAlignmentBoxMargin * diagonal;
@@ -132,6 +128,16 @@ Expected<ModelAlignment> measure_model_alignment(const MeshData& mesh, std::span
               : share < kAlignmentDoubtful ? AlignmentVerdict::kDoubtful
                                            : AlignmentVerdict::kAligned;
   return a;
+}
+
+}  // namespace
+
+Expected<ModelAlignment> measure_model_alignment(const MeshData& mesh, std::span<const Vec3> points,
+                                                 int threads) {
+  if (points.size() < kAlignmentMinPoints) return measure_on(Surface{}, points, threads);
+  Surface surface;
+  if (Status s = build_surface(mesh, surface); !s) return s.error();
+  return measure_on(surface, points, threads);
 }
 
 std::string alignment_figures(const ModelAlignment& a) {
@@ -325,11 +331,9 @@ Expected<ModelFit> fit_model_to_mesh(const MeshData& mesh, std::span<const Vec3>
                           " are needed to align it (or give the transform)");
   }
   ModelFit fit;
-  Expected<ModelAlignment> before = measure_model_alignment(mesh, points, threads);
-  if (!before) return before.error();
-  fit.before = *before;
   Surface surface;
   if (Status s = build_surface(mesh, surface); !s) return s.error();
+  fit.before = measure_on(surface, points, threads);
 
   // The points used: at most 10000 for the refinement, 1500 for the guesses.
   auto strided = [&](std::size_t most) {
@@ -391,9 +395,7 @@ Expected<ModelFit> fit_model_to_mesh(const MeshData& mesh, std::span<const Vec3>
   std::vector<Vec3> moved;
   moved.reserve(points.size());
   for (const Vec3& p : points) moved.push_back(fit.transform.apply(p));
-  Expected<ModelAlignment> after = measure_model_alignment(mesh, moved, threads);
-  if (!after) return after.error();
-  fit.after = *after;
+  fit.after = measure_on(surface, moved, threads);
   return fit;
 }
 

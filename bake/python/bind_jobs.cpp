@@ -82,21 +82,8 @@ py::dict job_dict(const JobResult& r) {
 }
 
 py::dict run_job_json(const std::string& json, py::object progress) {
-  Job job;
-  {
-    py::gil_scoped_release release;
-    Expected<std::vector<JobSetting>> settings = job_settings_from_json(json, "");
-    if (!settings) {
-      py::gil_scoped_acquire gil;
-      raise(settings.error());
-    }
-    Expected<Job> made = job_from_settings(*settings);
-    if (!made) {
-      py::gil_scoped_acquire gil;
-      raise(made.error());
-    }
-    job = std::move(*made);
-  }
+  // Parsing a line is quick: under the GIL, which an error needs to raise.
+  Job job = check(job_from_settings(check(job_settings_from_json(json, ""))));
   PyRun run(py::int_(0), std::move(progress));
   job.progress = run.run.progress;
   JobResult result;
