@@ -9,6 +9,7 @@
 #include <string>
 
 #include "bake/atlas/atlas_raster.h"
+#include "bake/atlas/atlas_samples.h"
 #include "bake/atlas/dilate.h"
 #include "bake/shade/footprint.h"
 #include "bake/shade/shade.h"
@@ -82,29 +83,19 @@ struct Worker {
   Deferred deferred;
 };
 
-// acc += the fill colour interpolated at the sample (barycentric over its
-// triangle's vertices).
-inline void add_fill(const MeshData& mesh, const std::vector<Rgba>& vc, uint32_t triangle,
-                     double b1, double b2, std::array<double, 4>& acc) {
-  const auto& tri = mesh.triangles[triangle];
-  const double b0 = 1 - b1 - b2;
-  for (int ch = 0; ch < 4; ++ch) {
-    acc[ch] += b0 * vc[tri[0]][ch] + b1 * vc[tri[1]][ch] + b2 * vc[tri[2]][ch];
-  }
-}
-
 // An sRGB-encoded colour into texel t.
 inline void store_color(const SampleContext& ctx, uint32_t t, const Rgba& c) {
   std::copy(c.begin(), c.end(), ctx.atlas + static_cast<std::size_t>(t) * 4);
   ctx.baked[t] = 1;
 }
 
-// The texel mean into the atlas (back to sRGB when working in linear).
+// The texel's plain mean into the atlas (back to sRGB when working in
+// linear); `constants` of its samples took the --occluded colour.
 inline void store_texel(const SampleContext& ctx, uint32_t t, const std::array<double, 4>& acc,
-                        std::size_t spt) {
-  Rgba mean;
-  for (int ch = 0; ch < 4; ++ch) mean[ch] = static_cast<float>(acc[ch] / static_cast<double>(spt));
-  store_color(ctx, t, ctx.shade.stored(mean));
+                        std::size_t spt, std::size_t constants = 0) {
+  store_color(ctx, t, plain_texel(acc, spt, constants, ctx.occluded_color, [&](const Rgba& c) {
+                return ctx.shade.stored(c);
+              }));
 }
 
 Vec3 sample_point(const MeshData& mesh, uint32_t t, float b1, float b2) {
@@ -213,13 +204,7 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
     }
     const uint32_t t = r.texels[k];
     if (!any_fill) {
-      // Wholly occluded: the given colour itself, not its round trip through
-      // the working encoding (which may move 0.5 off 127.5 / 255).
-      if (constants == spt) {
-        store_color(ctx, t, ctx.occluded_color);
-      } else {
-        store_texel(ctx, t, acc, spt);
-      }
+      store_texel(ctx, t, acc, spt, constants);
       continue;
     }
     // Occluded / undefined samples under --occluded fill (kProject fills
@@ -236,8 +221,8 @@ void bake_texels(const P& proxy, const SampleContext& ctx, Worker& w, std::size_
         w.deferred.samples.push_back({r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]});
         ++later->count;
       } else {
-        add_fill(*ctx.mesh, *ctx.fill_colors, r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s],
-                 acc);
+        add_interpolated(*ctx.mesh, *ctx.fill_colors, r.sample_triangle[s], r.sample_b1[s],
+                         r.sample_b2[s], acc);
       }
     }
     if (!later) store_texel(ctx, t, acc, spt);
@@ -284,11 +269,7 @@ double ewa_cell(int size, int samples) {  // see bake_atlas for the 0.85
 Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& image,
                                      const Proxy& proxy, const AtlasBakeOptions& options,
                                      Progress* progress) {
-  if (options.padding < 0 && options.padding != kPaddingDefault &&
-      options.padding != kPaddingInfinite) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "--padding " + std::to_string(options.padding) + " is negative");
-  }
+  if (Status s = check_padding(options.padding); !s) return s.error();
   const VertexBakeOptions& sh = options.shading;
   AtlasBakeResult result;
 
@@ -468,7 +449,7 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
       for (Deferred::Texel texel : d.texels) {
         for (uint32_t i = texel.first; i < texel.first + texel.count; ++i) {
           const Deferred::Sample& ds = d.samples[i];
-          add_fill(mesh, *vc, ds.triangle, ds.b1, ds.b2, texel.acc);
+          add_interpolated(mesh, *vc, ds.triangle, ds.b1, ds.b2, texel.acc);
         }
         store_texel(ctx, texel.texel, texel.acc, static_cast<std::size_t>(options.samples));
       }
@@ -482,6 +463,14 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   result.timings.pad = seconds_since(t0);
   if (Status s = check_texels_read(image); !s) return s.error();
   return result;
+}
+
+Status check_padding(int padding) {
+  if (padding == kPaddingDefault || padding == kPaddingInfinite) return ok_status();
+  if (padding >= 0 && padding <= kMaxAtlasSize) return ok_status();
+  return make_error(ErrorCode::kInvalidArgument, "--padding " + std::to_string(padding) +
+                                                     " is not a texel count (0 .. " +
+                                                     std::to_string(kMaxAtlasSize) + ") or 'inf'");
 }
 
 std::size_t pad_atlas(std::span<float> rgba, std::span<const uint8_t> baked, int size,

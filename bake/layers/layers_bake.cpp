@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "bake/atlas/atlas_raster.h"
+#include "bake/atlas/atlas_samples.h"
 #include "bake/atlas/bake_atlas.h"
 #include "bake/photo/segments.h"
 #include "bake/shade/footprint.h"
@@ -15,7 +16,7 @@
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
-#include "bake/vertex/occlusion_fill.h"
+#include "bake/vertex/vertex_resolve.h"
 #include "bake/vertex/vertex_share.h"
 #include "mapping/derivatives.h"
 #include "mapping/sample.h"
@@ -501,32 +502,15 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   std::vector<uint8_t> unknown(n, 0);
   for (std::size_t v = 0; v < n; ++v) unknown[v] = colour[v][3] > 0 ? 0 : 1;
   result.uncovered = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 1));
-  std::vector<uint32_t> constant;
-  if (options.occluded == OccludedMode::kColor) {
-    for (std::size_t v = 0; v < n; ++v) {
-      if (unknown[v]) constant.push_back(static_cast<uint32_t>(v));
-    }
-  } else if (result.uncovered > 0 && result.uncovered < n) {
-    std::vector<Rgba> rgb(n);
-    for (std::size_t v = 0; v < n; ++v) rgb[v] = {colour[v][0], colour[v][1], colour[v][2], 1};
-    Expected<FillResult> fill = fill_harmonic(mesh, rgb, unknown, [&](uint32_t v) {
-      constant.push_back(v);  // a component no layer covers
-      return Rgba{0, 0, 0, 1};
-    });
-    if (!fill) return fill.error();
-    result.filled = fill->filled;
-    for (std::size_t v = 0; v < n; ++v) {
-      if (unknown[v]) colour[v] = {rgb[v][0], rgb[v][1], rgb[v][2], 0};
-    }
-  } else if (result.uncovered == n) {
-    for (std::size_t v = 0; v < n; ++v) constant.push_back(static_cast<uint32_t>(v));
-  }
-  for (Rgba& c : colour) c = from_work(c, linear);
-  for (uint32_t v : constant) {
-    const Rgba& k =
-        options.occluded == OccludedMode::kColor ? options.occluded_color : Rgba{0, 0, 0, 0};
-    colour[v] = {k[0], k[1], k[2], 0};
-  }
+  // (A component no layer covers: transparent black under the fill.)
+  VertexResolve how;
+  how.fill = options.occluded != OccludedMode::kColor;
+  how.constant = how.fill ? Rgba{0, 0, 0, 0} : options.occluded_color;
+  how.coverage = true;
+  how.linear = linear;
+  Expected<FillResult> fill = resolve_vertices(mesh, colour, unknown, std::move(how));
+  if (!fill) return fill.error();
+  result.filled = fill->filled;
   result.colors = std::move(colour);
   result.seconds_fill = seconds_since(start);
   return result;
@@ -566,12 +550,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
                                               const LayersAtlasOptions& options,
                                               Progress* progress) {
   if (layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
-  const bool constant_padding =
-      options.padding == kPaddingDefault || options.padding == kPaddingInfinite;
-  if (!constant_padding && (options.padding < 0 || options.padding > kMaxAtlasSize)) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "--padding " + std::to_string(options.padding) + " is not a texel count");
-  }
+  if (Status s = check_padding(options.padding); !s) return s.error();
   const LayersBakeOptions& lo = options.layers;
   const bool base_texture = lo.base == LayerBase::kMesh && options.base_texture.data;
   const bool base_vertex = lo.base == LayerBase::kMesh && !base_texture;
@@ -680,15 +659,9 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
       for (std::size_t s = 0; s < m; ++s) {
         const auto& tri = uv_mesh.triangles[r.sample_triangle[s]];
         const double b1 = r.sample_b1[s], b2 = r.sample_b2[s], b0 = 1 - b1 - b2;
-        const Vec3 a = vec(uv_mesh.positions[tri[0]]), b = vec(uv_mesh.positions[tri[1]]),
-                   c = vec(uv_mesh.positions[tri[2]]);
-        w.points[s] = a * b0 + b * b1 + c * b2;
-        const Vec3 nn =
-            vec(normals[tri[0]]) * b0 + vec(normals[tri[1]]) * b1 + vec(normals[tri[2]]) * b2;
-        const Vec3 face = cross(b - a, c - a);
-        const double len = length(nn), face_len = length(face);
-        // Opposite vertex normals can cancel: the face's direction then.
-        w.normals[s] = len > 1e-12 ? nn / len : (face_len > 0 ? face / face_len : Vec3{0, 0, 0});
+        const SurfaceSample sp = surface_sample(uv_mesh, normals, r.sample_triangle[s], b1, b2);
+        w.points[s] = sp.p;
+        w.normals[s] = sp.n;
         if (lo.base == LayerBase::kColor) {
           w.colour[s] = base_working;
         } else if (base_vertex) {
@@ -750,12 +723,8 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
           } else {
             ++empty;
             if (fill) {
-              const auto& tri = uv_mesh.triangles[r.sample_triangle[s]];
-              const double b1 = r.sample_b1[s], b2 = r.sample_b2[s], b0 = 1 - b1 - b2;
-              for (int ch = 0; ch < 3; ++ch) {
-                filled[ch] += b0 * fill_colors[tri[0]][ch] + b1 * fill_colors[tri[1]][ch] +
-                              b2 * fill_colors[tri[2]][ch];
-              }
+              add_interpolated(uv_mesh, fill_colors, r.sample_triangle[s], r.sample_b1[s],
+                               r.sample_b2[s], filled);
             }
           }
         }

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "bake/atlas/atlas_raster.h"
+#include "bake/atlas/atlas_samples.h"
 #include "bake/photo/photo_view.h"
 #include "bake/photo/segments.h"
 #include "bake/trace/embree_scene.h"
@@ -29,35 +30,15 @@ constexpr std::size_t kBlock = 4096;
 static_assert(kBlock % 64 == 0);
 constexpr std::size_t kTexelBlock = 1024;  // texels per block of stage 6
 
-// A sample's point, unit smooth normal and (unnormalised) face normal.
-struct SurfacePoint {
-  Vec3 p, n, face;
-};
-
-Vec3 vec(Float3 f) {
-  return {f.x, f.y, f.z};
-}
-
-SurfacePoint surface_point(const MeshData& mesh, const std::vector<Float3>& normals,
-                           const AtlasRaster& r, std::size_t s) {
-  const auto& tri = mesh.triangles[r.sample_triangle[s]];
-  const double b1 = r.sample_b1[s], b2 = r.sample_b2[s], b0 = 1 - b1 - b2;
-  const Vec3 a = vec(mesh.positions[tri[0]]), b = vec(mesh.positions[tri[1]]),
-             c = vec(mesh.positions[tri[2]]);
-  SurfacePoint out;
-  out.p = a * b0 + b * b1 + c * b2;
-  out.face = cross(b - a, c - a);
-  const Vec3 n = vec(normals[tri[0]]) * b0 + vec(normals[tri[1]]) * b1 + vec(normals[tri[2]]) * b2;
-  const double len = length(n);
-  const double face_len = length(out.face);
-  // Opposite vertex normals can cancel: the face's direction then.
-  out.n = len > 1e-12 ? n / len : (face_len > 0 ? out.face / face_len : Vec3{0, 0, 0});
-  return out;
+// Sample s of the raster on the surface.
+SurfaceSample surface_point(const MeshData& mesh, const std::vector<Float3>& normals,
+                            const AtlasRaster& r, std::size_t s) {
+  return surface_sample(mesh, normals, r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]);
 }
 
 // The camera's cull of a sample (see the file comment): the vertex bake's,
 // and the face turned towards the camera.
-bool candidate(const CameraLook& look, const SurfacePoint& sp, CameraProjection& proj) {
+bool candidate(const CameraLook& look, const SurfaceSample& sp, CameraProjection& proj) {
   return look.candidate(sp.p, sp.n, proj) && dot(sp.face, look.centre() - sp.p) > 0;
 }
 
@@ -81,12 +62,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
                                                       const PhotoAtlasBakeOptions& options,
                                                       const PhotoReader& reader) {
   if (all_photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
-  const bool constant_padding =
-      options.padding == kPaddingDefault || options.padding == kPaddingInfinite;
-  if (!constant_padding && (options.padding < 0 || options.padding > kMaxAtlasSize)) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "--padding " + std::to_string(options.padding) + " is not a texel count");
-  }
+  if (Status s = check_padding(options.padding); !s) return s.error();
   const PhotoReader read = reader ? reader : PhotoReader(photo_detail::read_photo_file);
   const PhotoBakeOptions& po = options.photo;
   const bool fill = po.occluded != OccludedMode::kColor;
@@ -165,12 +141,12 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
       std::vector<uint32_t> candidates;
       std::vector<Vec3> points;
-      std::vector<SurfacePoint> surface;
+      std::vector<SurfaceSample> surface;
       std::vector<CameraProjection> projections;
       SegmentScratch scratch;
       std::vector<uint8_t> occluded;
       for (std::size_t s = begin; s < end; ++s) {
-        const SurfacePoint sp = surface_point(uv_mesh, normals, raster, s);
+        const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
         CameraProjection proj;
         if (!candidate(look, sp, proj)) continue;
         if (po.keep_points) blend.state[s] = PhotoPoints::kInView;
@@ -216,7 +192,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
       const std::vector<uint64_t>& bits = seen_by[c];
       parallel_for_blocks(ns, kBlock, [&](std::size_t, std::size_t begin, std::size_t end) {
         for_each_seen(bits, begin, end, [&](std::size_t s) {
-          const SurfacePoint sp = surface_point(uv_mesh, normals, raster, s);
+          const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
           const CameraProjection proj = photos[c].camera.project(sp.p);
           total[s] += static_cast<float>(
               blend_weight(PhotoBlend::kSoft, look.quality(sp.p, sp.n, proj), q_max[s], false));
@@ -248,7 +224,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
       double block_share = 0;
       for_each_seen(bits, begin, end, [&](std::size_t s) {
-        const SurfacePoint sp = surface_point(uv_mesh, normals, raster, s);
+        const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
         const CameraProjection proj = photo.camera.project(sp.p);
         const bool is_best = !best.empty() && best[s] == c;
         const double w =
@@ -294,25 +270,16 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
               acc[3] += 1;
             } else if (fill) {
               ++filled;
-              const auto& tri = uv_mesh.triangles[raster.sample_triangle[s]];
-              const double b1 = raster.sample_b1[s], b2 = raster.sample_b2[s], b0 = 1 - b1 - b2;
-              for (int ch = 0; ch < 4; ++ch) {
-                acc[ch] += b0 * fill_colors[tri[0]][ch] + b1 * fill_colors[tri[1]][ch] +
-                           b2 * fill_colors[tri[2]][ch];
-              }
+              add_interpolated(uv_mesh, fill_colors, raster.sample_triangle[s], raster.sample_b1[s],
+                               raster.sample_b2[s], acc);
             } else {
               ++constants;
               for (int ch = 0; ch < 4; ++ch) acc[ch] += constant_linear[ch];
             }
           }
           const std::size_t t = raster.texels[k];
-          Rgba out = po.occluded_color;  // wholly unseen under --occluded R,G,B: exactly
-          if (constants < spt) {
-            for (int ch = 0; ch < 4; ++ch) {
-              out[ch] = static_cast<float>(acc[ch] / static_cast<double>(spt));
-            }
-            out = linear_to_srgb(out);
-          }
+          const Rgba out = plain_texel(acc, spt, constants, po.occluded_color,
+                                       [](const Rgba& c) { return linear_to_srgb(c); });
           std::copy(out.begin(), out.end(), result.atlas.pixels.begin() + 4 * t);
           result.baked[t] = 1;
         }

@@ -11,7 +11,7 @@
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
-#include "bake/vertex/occlusion_fill.h"
+#include "bake/vertex/vertex_resolve.h"
 #include "mapping/image_view.h"
 #include "mesh_io/vertex_normals.h"
 
@@ -284,25 +284,18 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   }
   result.seconds_blend = seconds_since(start);
 
-  // Vertices no photo sees: the fill in linear light, or the occluded colour,
-  // which is given sRGB-encoded and written as given.
+  // Vertices no photo sees: the fill in linear light (a component no photo
+  // sees takes the occluded colour), or the occluded colour, which is given
+  // sRGB-encoded and written as given.
   start = Clock::now();
-  std::vector<uint32_t> constant;  // vertices that get occluded_color
-  if (options.occluded == OccludedMode::kColor) {
-    for (std::size_t v = 0; v < n; ++v) {
-      if (unknown[v]) constant.push_back(static_cast<uint32_t>(v));
-    }
-  } else if (result.seen < n) {
-    Expected<FillResult> fill = fill_harmonic(mesh, colors, unknown, [&](uint32_t v) {
-      constant.push_back(v);  // a component no photo sees
-      return Rgba{0, 0, 0, 1};
-    });
-    if (!fill) return fill.error();
-    result.filled = fill->filled;
-    result.unfilled = fill->unfilled;
-  }
-  for (Rgba& c : colors) c = linear_to_srgb(c);
-  for (uint32_t v : constant) colors[v] = options.occluded_color;
+  VertexResolve how;
+  how.fill = options.occluded != OccludedMode::kColor;
+  how.constant = options.occluded_color;
+  how.linear = true;
+  Expected<FillResult> fill = resolve_vertices(mesh, colors, unknown, std::move(how));
+  if (!fill) return fill.error();
+  result.filled = fill->filled;
+  result.unfilled = fill->unfilled;
   result.colors = std::move(colors);
   result.seconds_fill = seconds_since(start);
   return result;

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "bake/atlas/atlas_raster.h"
+#include "bake/atlas/atlas_samples.h"
 #include "bake/atlas/bake_atlas.h"
 #include "bake/atlas/dilate.h"
 #include "bake/texbake/run.h"
@@ -25,12 +26,7 @@ Status validate_options(const AtlasOptions& options) {
                                                        " is out of range for an atlas (1 .. " +
                                                        std::to_string(kMaxAtlasSamples) + ")");
   }
-  const bool constant = o.padding == kPaddingDefault || o.padding == kPaddingInfinite;
-  if (!constant && (o.padding < 0 || o.padding > kMaxAtlasSize)) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "--padding " + std::to_string(o.padding) + " is not a texel count (0 .. " +
-                          std::to_string(kMaxAtlasSize) + ") or 'inf'");
-  }
+  if (Status s = check_padding(o.padding); !s) return s.error();
   return detail::check_shading_colors(o.shading);
 }
 

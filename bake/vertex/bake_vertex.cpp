@@ -246,7 +246,6 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
                                              Progress* progress, const EmbreeScene* shared_scene) {
   using Clock = std::chrono::steady_clock;
   VertexBakeStage stage;
-  stage.options = options;
   VertexBakeResult& result = stage.result;
   const std::size_t n = mesh.positions.size();
   result.counts.vertices = n;
@@ -270,7 +269,6 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   ctx.mesh = &mesh;
   ctx.options = &options;
   ctx.shade = make_shade_rule(working.view, proxy, options);
-  stage.linear = ctx.shade.linear;
   // --filter ewa: the pyramid of the working image (its encoding, as the
   // bilinear lookup's), built once per job.
   std::optional<MipPyramid> mip;
@@ -301,8 +299,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
     order = image_order(mesh, proxy, working.view);
     ctx.order = &order;
   }
-  std::vector<uint8_t>& state = stage.state;
-  state.assign(n, kVisible);
+  std::vector<uint8_t> state(n, kVisible);
   std::atomic<std::size_t> samples{0}, outside{0};
   if (progress) progress->start("bake", n);
   parallel_for_chunks(n, kVertexGrain, [&](std::size_t begin, std::size_t end) {
@@ -319,44 +316,46 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   scene.reset();  // the BVH is not needed any more: free it before the fill
   result.timings.bake = seconds_since(bake_start);
 
-  // Occluded and undefined vertices (SPEC section 3).
+  // Occluded and undefined vertices (SPEC section 3): under --occluded fill
+  // both are filled, under project only the undefined ones, under a colour
+  // both take it.
   const auto fill_start = Clock::now();
   std::vector<uint8_t> unknown(n, 0);
-  std::size_t unknown_count = 0;
   for (std::size_t v = 0; v < n; ++v) {
     if (state[v] == kOccluded) ++result.counts.occluded;
     if (state[v] == kUndefined) ++result.counts.undefined;
-    const bool fill = (state[v] == kOccluded && options.occluded == OccludedMode::kFill) ||
-                      (state[v] == kUndefined && options.occluded != OccludedMode::kColor);
-    unknown[v] = fill ? 1 : 0;
-    unknown_count += fill;
+    unknown[v] = state[v] == kUndefined ||
+                 (state[v] == kOccluded && options.occluded != OccludedMode::kProject);
   }
-  if (unknown_count > 0) {
-    ChunkCounts fallback_counts;
-    std::optional<Rgba> mean;
-    VertexShare share;
-    // Unanchored components take the projected colour; vertices without any
-    // mapping take the image's mean colour (never black, never arbitrary).
-    auto fallback = [&](uint32_t v) -> Rgba {
-      if (state[v] == kOccluded) {
-        return std::visit(
-            [&](const auto& p) -> Rgba {
-              const MapResult m = p.inverse_map(to_vec(mesh.positions[v]));
-              if (auto c = vertex_color(p, ctx, v, m, share, fallback_counts)) return *c;
-              if (!mean) mean = image_mean(ctx.shade.image);
-              return *mean;
-            },
-            proxy);
-      }
-      if (!mean) mean = image_mean(ctx.shade.image);
-      return *mean;
-    };
-    stage.plan = plan_fill(mesh, result.colors, unknown, fallback);
-    result.counts.filled = stage.plan.result.filled;
-    result.counts.unfilled = stage.plan.result.unfilled;
-    samples += fallback_counts.samples;
-    outside += fallback_counts.outside;
-  }
+  ChunkCounts fallback_counts;
+  std::optional<Rgba> mean;
+  VertexShare share;
+  VertexResolve how;
+  how.fill = options.occluded != OccludedMode::kColor;
+  how.constant = options.occluded_color;
+  how.linear = ctx.shade.linear;
+  // Unanchored components take the projected colour; vertices without any
+  // mapping take the image's mean colour (never black, never arbitrary).
+  how.fallback = [&](uint32_t v) -> Rgba {
+    if (state[v] == kOccluded) {
+      return std::visit(
+          [&](const auto& p) -> Rgba {
+            const MapResult m = p.inverse_map(to_vec(mesh.positions[v]));
+            if (auto c = vertex_color(p, ctx, v, m, share, fallback_counts)) return *c;
+            if (!mean) mean = image_mean(ctx.shade.image);
+            return *mean;
+          },
+          proxy);
+    }
+    if (!mean) mean = image_mean(ctx.shade.image);
+    return *mean;
+  };
+  stage.plan = plan_resolve(mesh, result.colors, unknown, std::move(how));
+  stage.plan.how.fallback = nullptr;  // it refers to this frame: not past it
+  result.counts.filled = stage.plan.plan.result.filled;
+  result.counts.unfilled = stage.plan.plan.result.unfilled;
+  samples += fallback_counts.samples;
+  outside += fallback_counts.outside;
   result.counts.samples = samples.load();
   result.counts.outside = outside.load();
   result.timings.fill = seconds_since(fill_start);
@@ -367,22 +366,8 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
 Expected<VertexBakeResult> bake_vertex_finish(const MeshData& mesh, VertexBakeStage stage) {
   const auto fill_start = std::chrono::steady_clock::now();
   VertexBakeResult& result = stage.result;
-  const VertexBakeOptions& options = stage.options;
-  const std::size_t n = result.colors.size();
-  if (result.counts.filled > 0) {
-    Expected<FillResult> filled = solve_fill(mesh, result.colors, std::move(stage.plan));
-    if (!filled) return filled.error();
-  }
-  if (stage.linear) {
-    parallel_for_chunks(n, 16384, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t v = begin; v < end; ++v) result.colors[v] = linear_to_srgb(result.colors[v]);
-    });
-  }
-  if (options.occluded == OccludedMode::kColor) {
-    for (std::size_t v = 0; v < n; ++v) {
-      if (stage.state[v] != kVisible) result.colors[v] = options.occluded_color;
-    }
-  }
+  Expected<FillResult> filled = finish_resolve(mesh, result.colors, std::move(stage.plan));
+  if (!filled) return filled.error();
   result.timings.fill += seconds_since(fill_start);
   return std::move(result);
 }

@@ -48,7 +48,7 @@
 #include "bake/shade/options.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/util/progress.h"
-#include "bake/vertex/occlusion_fill.h"
+#include "bake/vertex/vertex_resolve.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/proxy.h"
@@ -93,11 +93,8 @@ Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& im
 // released once it returns. bake_vertex_finish solves the fill and converts
 // back from linear. bake_vertex(...) == bake_vertex_finish(mesh, bake_vertex_sample(...)).
 struct VertexBakeStage {
-  VertexBakeResult result;     // colours still in the working encoding
-  std::vector<uint8_t> state;  // per vertex: visible, occluded or undefined
-  FillPlan plan;
-  VertexBakeOptions options;
-  bool linear = false;  // the working encoding is linear light (works_in_linear)
+  VertexBakeResult result;  // colours still in the working encoding
+  VertexResolvePlan plan;   // the occluded and undefined vertices' (bake/vertex/vertex_resolve.h)
 };
 // shared_scene: a scene already built over mesh (EmbreeScene::build), used
 // for the visibility rays instead of building one (the atlas's --occluded
