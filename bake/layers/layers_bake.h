@@ -133,6 +133,9 @@ struct LayersBakeOptions {
   // A "cameras" layer's photo that cannot be read is left out with a
   // warning (LayerStats::skipped); with strict_photos it is an error.
   bool strict_photos = false;
+  // A "cameras" layer's photos that disagree on the mesh are a warning
+  // (PhotoBakeOptions::consistency_warning); off with --no-alignment-check.
+  bool consistency_warning = true;
 };
 
 struct LayerStats {

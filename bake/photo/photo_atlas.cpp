@@ -98,6 +98,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   }
   const std::vector<Photo>& photos = result.skipped.empty() ? all_photos : readable;
   result.cameras = std::move(vertex->cameras);
+  result.consistency = vertex->consistency;
   result.warnings = std::move(vertex->warnings);
   result.vertices_seen = vertex->seen;
   result.vertices_filled = vertex->filled;

@@ -76,6 +76,7 @@ struct PhotoAtlasBakeResult {
   // Per photo: in_view, visible and weight_share over the atlas samples;
   // gain, photo size and scaled from the vertex bake (stage 1).
   std::vector<PhotoCameraStats> cameras;
+  PhotoConsistency consistency;    // the vertex bake's (photo_bake.h)
   std::size_t texels = 0;          // covered texels
   std::size_t samples = 0;         // their supersamples
   std::size_t border_samples = 0;  // samples clamped onto a triangle (chart borders)

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include "bake/photo/photo_view.h"
 #include "bake/photo/segments.h"
@@ -84,6 +86,79 @@ Expected<std::vector<double>> solve_gains(const std::vector<uint32_t>& start,
     gains[static_cast<std::size_t>(a)] = g;
   }
   return gains;
+}
+
+// PhotoConsistency (photo_bake.h) over the per-vertex sample lists.
+// Per-block sums, added in block order: the figures do not depend on the
+// thread count.
+PhotoConsistency measure_consistency(const std::vector<uint32_t>& first,
+                                     const std::vector<Sample>& samples,
+                                     const std::vector<std::array<double, 3>>& gains,
+                                     std::vector<PhotoCameraStats>& stats) {
+  constexpr double kLuma[3] = {0.2126, 0.7152, 0.0722};
+  constexpr double kDarkFloor = 0.05;  // linear luminance: below it deviations are absolute
+  const std::size_t n = first.size() - 1, cameras = gains.size();
+  const std::size_t blocks = block_count(n, kGrain);
+  std::vector<float> deviation(n, -1.f);  // -1: seen by fewer than two photos
+  std::vector<double> camera_sum(blocks * cameras, 0.0);
+  std::vector<std::size_t> camera_count(blocks * cameras, 0);
+  parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    std::vector<double> y, sorted;
+    for (std::size_t v = begin; v < end; ++v) {
+      const uint32_t s0 = first[v], s1 = first[v + 1];
+      if (s1 - s0 < 2) continue;
+      y.clear();
+      for (uint32_t i = s0; i < s1; ++i) {
+        const Sample& s = samples[i];
+        double luma = 0;
+        for (int ch = 0; ch < 3; ++ch) luma += kLuma[ch] * gains[s.camera][ch] * s.rgb[ch];
+        y.push_back(luma);
+      }
+      sorted = y;
+      std::sort(sorted.begin(), sorted.end());
+      const std::size_t k = sorted.size();
+      const double median = k % 2 ? sorted[k / 2] : (sorted[k / 2 - 1] + sorted[k / 2]) / 2;
+      const double scale = std::max(median, kDarkFloor);
+      double sum = 0;
+      for (uint32_t i = s0; i < s1; ++i) {
+        const double d = std::abs(y[i - s0] - median) / scale;
+        sum += d;
+        camera_sum[block * cameras + samples[i].camera] += d;
+        ++camera_count[block * cameras + samples[i].camera];
+      }
+      deviation[v] = static_cast<float>(sum / static_cast<double>(k));
+    }
+  });
+  PhotoConsistency c;
+  for (std::size_t cam = 0; cam < cameras; ++cam) {
+    double sum = 0;
+    std::size_t count = 0;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      sum += camera_sum[b * cameras + cam];
+      count += camera_count[b * cameras + cam];
+    }
+    stats[cam].shared = count;
+    stats[cam].deviation = count ? sum / static_cast<double>(count) : 0;
+  }
+  std::vector<float> multi;
+  for (float d : deviation) {
+    if (d >= 0) multi.push_back(d);
+  }
+  c.vertices = multi.size();
+  if (!multi.empty()) {
+    const auto agree =
+        std::count_if(multi.begin(), multi.end(), [](float d) { return d <= kAgreeDeviation; });
+    c.agreeing = static_cast<double>(agree) / static_cast<double>(multi.size());
+    const auto mid = multi.begin() + static_cast<std::ptrdiff_t>(multi.size() / 2);
+    std::nth_element(multi.begin(), mid, multi.end());
+    c.median_deviation = *mid;
+  }
+  double lo = INFINITY, hi = 0;
+  for (const auto& g : gains) {
+    for (double x : g) lo = std::min(lo, x), hi = std::max(hi, x);
+  }
+  c.gain_ratio = lo > 0 && std::isfinite(lo) ? hi / lo : 1;
+  return c;
 }
 
 }  // namespace
@@ -220,6 +295,11 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     }
   }
   for (std::size_t c = 0; c < cameras; ++c) result.cameras[c].gain = gains[c];
+  result.consistency = measure_consistency(first, samples, gains, result.cameras);
+  if (options.consistency_warning) {
+    std::string doubt = photo_consistency_warning(result.consistency);
+    if (!doubt.empty()) result.warnings.push_back(std::move(doubt));
+  }
 
   // Blend per vertex, in linear light.
   std::vector<Rgba> colors(n, Rgba{0, 0, 0, 1});
@@ -299,6 +379,25 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   result.colors = std::move(colors);
   result.seconds_fill = seconds_since(start);
   return result;
+}
+
+std::string consistency_figures(const PhotoConsistency& c) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf,
+                "%.0f %% of %zu vertices seen by several photos agree within %.0f %%, median "
+                "deviation %.1f %%, gains within %.2gx",
+                100 * c.agreeing, c.vertices, 100 * kAgreeDeviation, 100 * c.median_deviation,
+                c.gain_ratio);
+  return buf;
+}
+
+std::string photo_consistency_warning(const PhotoConsistency& c) {
+  const bool disagree = c.vertices >= kConsistencyMinVertices && c.agreeing < kConsistencyDoubtful;
+  const bool gains = c.gain_ratio > kGainRatioDoubtful;
+  if (!disagree && !gains) return {};
+  return std::string("the photos disagree on the mesh (") + consistency_figures(c) +
+         "): are the cameras in the mesh's frame and their poses right? (texbake cameras "
+         "align, --no-alignment-check: no check)";
 }
 
 }  // namespace texbake

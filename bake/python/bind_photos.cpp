@@ -56,6 +56,16 @@ py::list skipped_list(const std::vector<SkippedPhoto>& skipped) {
   return out;
 }
 
+// PhotoConsistency, as the report's "photo_agreement".
+py::dict consistency_dict(const PhotoConsistency& c) {
+  py::dict d;
+  d["vertices"] = c.vertices;
+  d["agreeing"] = c.agreeing;
+  d["median_deviation"] = c.median_deviation;
+  d["gain_ratio"] = c.gain_ratio;
+  return d;
+}
+
 py::tuple vertex_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& photos,
                              const PhotoBakeOptions& o, py::handle threads, py::object progress) {
   PyRun run(threads, std::move(progress));
@@ -64,6 +74,7 @@ py::tuple vertex_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& p
   });
   py::dict stats = stats_dict(baked.stats);
   stats["photos_skipped"] = skipped_list(baked.skipped);
+  stats["photo_agreement"] = consistency_dict(baked.consistency);
   return py::make_tuple(colors_array(baked.colors), stats, cameras_list(baked.cameras));
 }
 

@@ -405,6 +405,8 @@ py::list cameras_list(const std::vector<PhotoCameraStats>& cameras) {
     d["visible"] = c.visible;
     d["weight_share"] = c.weight_share;
     d["gain"] = py::make_tuple(c.gain[0], c.gain[1], c.gain[2]);
+    d["shared"] = c.shared;
+    d["deviation"] = c.deviation;
     out.append(d);
   }
   return out;

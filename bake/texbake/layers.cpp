@@ -83,9 +83,10 @@ Expected<std::vector<std::vector<Photo>>> read_layer_cameras(const LayersSpec& s
 }
 
 // The photo bake of a "cameras" layer: its blend per point, not filled.
-PhotoBakeOptions layer_photo_options(bool strict_photos) {
+PhotoBakeOptions layer_photo_options(const LayersBakeOptions& options) {
   PhotoBakeOptions o;
-  o.strict_photos = strict_photos;
+  o.strict_photos = options.strict_photos;
+  o.consistency_warning = options.consistency_warning;
   o.keep_points = true;
   o.occluded = OccludedMode::kColor;  // unseen points are transparent: no fill needed
   return o;
@@ -207,7 +208,7 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
             *photos, progress, *inputs, blends, photo_seconds,
             [&](std::size_t i, const std::vector<Photo>& p, PhotoLayerPoints& b) -> Status {
               Expected<PhotoBakeResult> blend =
-                  bake_vertex_from_photos(mesh, p, layer_photo_options(options.strict_photos));
+                  bake_vertex_from_photos(mesh, p, layer_photo_options(options));
               if (!blend) return blend.error();
               add_photo_warnings(i, blend->warnings, out.stats.warnings);
               skipped[i] = std::move(blend->skipped);
@@ -305,7 +306,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
               po.size = resolved.bake.size;
               po.samples = resolved.bake.samples;
               po.padding = 0;
-              po.photo = layer_photo_options(options.strict_photos);
+              po.photo = layer_photo_options(options);
               Expected<PhotoAtlasBakeResult> blend = bake_atlas_from_photos(out.atlas.mesh, p, po);
               if (!blend) return blend.error();
               add_photo_warnings(i, blend->warnings, out.atlas.stats.warnings);

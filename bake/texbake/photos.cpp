@@ -125,6 +125,7 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
     PhotoColors out;
     out.colors = std::move(baked->colors);
     out.cameras = std::move(baked->cameras);
+    out.consistency = baked->consistency;
     Counts& c = out.stats.counts;
     c.vertices = mesh.positions.size();
     c.triangles = mesh.triangles.size();
@@ -181,6 +182,7 @@ Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
     out.atlas.image = std::move(baked->atlas);
     out.cameras = std::move(baked->cameras);
     out.skipped = std::move(baked->skipped);
+    out.consistency = baked->consistency;
     Stats& st = out.atlas.stats;
     for (std::string& w : baked->warnings) st.warnings.push_back(std::move(w));
     Counts& c = st.counts;

@@ -180,9 +180,19 @@ nlohmann::ordered_json cameras_json(const std::vector<PhotoCameraStats>& cameras
                     {"in_view", s.in_view},
                     {"visible", s.visible},
                     {"weight_share", s.weight_share},
-                    {"gain", {s.gain[0], s.gain[1], s.gain[2]}}});
+                    {"gain", {s.gain[0], s.gain[1], s.gain[2]}},
+                    {"shared", s.shared},
+                    {"deviation", s.deviation}});
   }
   return cams;
+}
+
+// PhotoConsistency: how well the photos agree on the mesh.
+nlohmann::ordered_json consistency_json(const PhotoConsistency& c) {
+  return {{"vertices", c.vertices},
+          {"agreeing", c.agreeing},
+          {"median_deviation", c.median_deviation},
+          {"gain_ratio", c.gain_ratio}};
 }
 
 // The report's "inputs": the cameras and photos folder, or for a camera
@@ -258,6 +268,7 @@ std::string photo_atlas_report(const Job& job, const PhotoAtlas& baked, double l
                  {"padded", c.padded}};
   j["atlas"] = atlas_json(AtlasReport{job.atlas.bake, baked.atlas.uv}, st, write);
   j["cameras"] = cameras_json(baked.cameras);
+  j["photo_agreement"] = consistency_json(baked.consistency);
   j["photos_skipped"] = skipped_photos_json(baked.skipped);
   const Timings& t = st.timings;
   j["timings"] = {{"load", load},
@@ -284,6 +295,7 @@ std::string photo_report(const Job& job, const PhotoColors& baked, double load, 
                  {"camera_samples", c.samples}, {"unseen", c.occluded},
                  {"filled", c.filled},          {"unfilled", c.unfilled}};
   j["cameras"] = cameras_json(baked.cameras);
+  j["photo_agreement"] = consistency_json(baked.consistency);
   j["photos_skipped"] = skipped_photos_json(baked.skipped);
   const Timings& t = baked.stats.timings;
   j["timings"] = {{"load", load},     {"scene_build", t.scene_build},

@@ -361,6 +361,7 @@ struct PhotoColors {
   std::vector<Rgba> colors;               // one per vertex, sRGB-encoded RGBA in [0, 1]
   std::vector<PhotoCameraStats> cameras;  // per photo used: in view, visible, weight, gains
   std::vector<SkippedPhoto> skipped;      // photos left out (cannot be read; also warnings)
+  PhotoConsistency consistency;           // how well the photos agree (bake/photo/photo_bake.h)
   Stats stats;  // counts.vertices, samples (camera samples blended), filled, unfilled;
                 // timings.scene_build, bake (photos), fill (blend and fill), total
 };
@@ -523,6 +524,7 @@ struct PhotoAtlas {
   // exposure gains (solved on the vertices, see bake/photo/photo_atlas.h).
   std::vector<PhotoCameraStats> cameras;
   std::vector<SkippedPhoto> skipped;  // photos left out (cannot be read; also warnings)
+  PhotoConsistency consistency;       // measured on the vertices, as the gains
   // atlas.stats: counts.texels, samples (atlas supersamples), occluded
   // (samples no photo sees), filled (of those, coloured by the fill),
   // unfilled (vertices in components no photo sees), border_samples,

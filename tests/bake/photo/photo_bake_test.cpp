@@ -340,5 +340,101 @@ TEST(PhotoBake, IdenticalWithOneAndTwoThreads) {
   EXPECT_EQ(one, two);
 }
 
+// Grey stripes across x, 0.1 wide (linear 0.2 and 0.8, so the luminance
+// is the grey itself), their edges at x = 0.1 k - 0.025: every grid vertex
+// (x = 0.05 i - 1) lies 0.025 (3.3 photo pixels at height 3) from an edge,
+// where the bilinear lookup reads one stripe only.
+double stripe(double x) {
+  return static_cast<long>(std::floor((x + 0.025) / 0.1)) % 2 == 0 ? 0.2 : 0.8;
+}
+
+// The photo of the stripes taken by a camera at (cx + shift, 0, height)
+// looking down; given to a camera at (cx, 0, height), its pose is wrong by
+// `shift` along x.
+PhotoImage photo_of_stripes(double height, double cx, double shift) {
+  PhotoImage img{kW, kH, std::vector<float>(static_cast<std::size_t>(kW) * kH * 4)};
+  for (int j = 0; j < kH; ++j) {
+    for (int i = 0; i < kW; ++i) {
+      const double a = (i + 0.5 - kCx) / kF;
+      const float g = linear_to_srgb(static_cast<float>(stripe(cx + shift + a * height)));
+      float* px = &img.pixels[(static_cast<std::size_t>(j) * kW + i) * 4];
+      px[0] = px[1] = px[2] = g;
+      px[3] = 1;
+    }
+  }
+  return img;
+}
+
+TEST(PhotoConsistency, PhotosOfTheRightPlaceAgreeEverywhere) {
+  // Both cameras see the whole square (half-widths 2.4 x 1.8 at height 3,
+  // inside 75 degrees): every vertex is seen by both, with the same grey.
+  const MeshData mesh = scene();
+  Shots shots;
+  shots.add("a", down_camera(3, 0.1), photo_of_stripes(3, 0.1, 0));
+  shots.add("b", down_camera(3, -0.1), photo_of_stripes(3, -0.1, 0));
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, {}, shots.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->consistency.vertices, kGridVertices);
+  EXPECT_EQ(r->consistency.agreeing, 1.0);
+  EXPECT_LT(r->consistency.median_deviation, 1e-4);
+  EXPECT_LT(r->consistency.gain_ratio, 1.001);
+  for (const PhotoCameraStats& c : r->cameras) {
+    EXPECT_EQ(c.shared, kGridVertices);
+    EXPECT_LT(c.deviation, 1e-4);
+  }
+  for (const std::string& w : r->warnings) EXPECT_EQ(w.find("disagree"), std::string::npos) << w;
+}
+
+TEST(PhotoConsistency, APoseOffByOneStripeDisagreesEverywhereAndWarns) {
+  // Camera b's photo was taken 0.1 further along x than its pose says: at
+  // every vertex it shows the other stripe, 0.2 against 0.8. With gains
+  // off, each vertex's deviation is |0.2 - 0.8| / (0.2 + 0.8) = 0.6 (the
+  // median of two is their mean, 0.5), and so is each photo's.
+  const MeshData mesh = scene();
+  Shots shots;
+  shots.add("a", down_camera(3, 0.1), photo_of_stripes(3, 0.1, 0));
+  shots.add("b", down_camera(3, -0.1), photo_of_stripes(3, -0.1, 0.1));
+  PhotoBakeOptions options;
+  options.exposure = ExposureMode::kNone;
+  Expected<PhotoBakeResult> r =
+      bake_vertex_from_photos(mesh, shots.photos, options, shots.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_EQ(r->consistency.vertices, kGridVertices);
+  EXPECT_EQ(r->consistency.agreeing, 0.0);
+  EXPECT_NEAR(r->consistency.median_deviation, 0.6, 1e-4);
+  for (const PhotoCameraStats& c : r->cameras) EXPECT_NEAR(c.deviation, 0.6, 1e-4);
+  bool warned = false;
+  for (const std::string& w : r->warnings) {
+    if (w.find("the photos disagree on the mesh (0 % of 1681 vertices") == 0) warned = true;
+  }
+  EXPECT_TRUE(warned);
+  EXPECT_EQ(r->warnings.back().find("texbake cameras align") != std::string::npos, true);
+
+  // The check off (--no-alignment-check): the same figures, no warning.
+  options.consistency_warning = false;
+  Expected<PhotoBakeResult> quiet =
+      bake_vertex_from_photos(mesh, shots.photos, options, shots.reader());
+  ASSERT_TRUE(quiet);
+  EXPECT_EQ(quiet->consistency.agreeing, 0.0);
+  for (const std::string& w : quiet->warnings) EXPECT_EQ(w.find("disagree"), std::string::npos);
+}
+
+TEST(PhotoConsistency, GainsSpreadWiderThanFourFoldWarn) {
+  // Exposures 1 and 5 of the same place: the gains undo them (ratio 5 >
+  // kGainRatioDoubtful) and the photos then agree, but a fivefold exposure
+  // difference is the mark of photos matched against the wrong surface.
+  const MeshData mesh = scene();
+  Shots shots;
+  shots.add("a", down_camera(3), photo_of_plane(3, 0.2));
+  shots.add("b", down_camera(3.5, 0.2, -0.1), photo_of_plane(3.5, 1.0, 0.2, -0.1));
+  Expected<PhotoBakeResult> r = bake_vertex_from_photos(mesh, shots.photos, {}, shots.reader());
+  ASSERT_TRUE(r) << r.error().message;
+  EXPECT_NEAR(r->consistency.gain_ratio, 5.0, 0.02);
+  EXPECT_GT(r->consistency.agreeing, 0.99);
+  bool warned = false;
+  for (const std::string& w : r->warnings) warned |= w.find("gains within 5x") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
 }  // namespace
 }  // namespace texbake
