@@ -21,6 +21,43 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// A file's contents as a job holds them: read for it alone (its own, which
+// a bake may consume), or shared with the jobs around it (Job::cache).
+template <class T>
+class Held {
+ public:
+  static Expected<Held> of(Expected<T> own) {
+    if (!own) return own.error();
+    Held h;
+    h.own_ = std::move(*own);
+    return h;
+  }
+  static Expected<Held> of(Expected<std::shared_ptr<const T>> shared) {
+    if (!shared) return shared.error();
+    Held h;
+    h.shared_ = std::move(*shared);
+    return h;
+  }
+  const T& get() const { return own_ ? *own_ : *shared_; }
+  bool own() const { return own_.has_value(); }
+  // For a step that consumes it: its own moved out, a shared one copied.
+  T take() {
+    if (own_) return std::move(*own_);
+    return *shared_;
+  }
+
+ private:
+  std::optional<T> own_;
+  std::shared_ptr<const T> shared_;
+};
+
+// The mesh of a job.
+Expected<Held<LoadedMesh>> read_held_mesh(const fs::path& path, const RunOptions& run,
+                                          JobCache* cache) {
+  return cache ? Held<LoadedMesh>::of(cache->mesh(path, run))
+               : Held<LoadedMesh>::of(read_mesh(path, run));
+}
+
 // The job's state while it runs: the result and the proxy report being filled.
 class JobRun {
  public:
@@ -85,9 +122,11 @@ class JobRun {
   }
 
   // The mesh; with `check_uv`, --uv mesh on a mesh without UVs is refused.
-  Expected<LoadedMesh> read_job_mesh(bool check_uv = true) const {
-    Expected<LoadedMesh> mesh = read_mesh(job_.mesh, RunOptions{job_.threads, {}});
-    if (mesh && check_uv && atlas() && job_.atlas.uv == UvLayout::kMesh && !mesh->mesh.has_uvs()) {
+  Expected<Held<LoadedMesh>> read_job_mesh(bool check_uv = true) const {
+    Expected<Held<LoadedMesh>> mesh =
+        read_held_mesh(job_.mesh, RunOptions{job_.threads, {}}, job_.cache.get());
+    if (mesh && check_uv && atlas() && job_.atlas.uv == UvLayout::kMesh &&
+        !mesh->get().mesh.has_uvs()) {
       // The option does not fit the given mesh: a usage error.
       const bool proxy = job_.layers.empty() && job_.cameras.empty() && !job_.photo;
       return make_error(ErrorCode::kInvalidArgument,
@@ -158,24 +197,28 @@ class JobRun {
     return std::move(done->proxy);
   }
 
-  Expected<Image> read_texture() {
+  // The texture: read for this job, or shared with the jobs around it (Job::cache).
+  Expected<Held<Image>> read_texture() {
     const bool ewa = job_.shading.filter == VertexFilter::kEwa;
     const bool linear = job_.shading.linear;
-    Expected<Image> image = read_image(
-        job_.texture, texture_read_options(job_.texture_colorspace, job_.cache_mb, linear, ewa));
-    if (!image) return image.error();
+    const ImageReadOptions read =
+        texture_read_options(job_.texture_colorspace, job_.cache_mb, linear, ewa);
+    Expected<Held<Image>> held = job_.cache ? Held<Image>::of(job_.cache->image(job_.texture, read))
+                                            : Held<Image>::of(read_image(job_.texture, read));
+    if (!held) return held.error();
+    const Image& image = held->get();
     if (ewa) {
-      if (Status s = check_ewa_budget(*image, job_.cache_mb, linear); !s) return s.error();
+      if (Status s = check_ewa_budget(image, job_.cache_mb, linear); !s) return s.error();
     }
-    report_.image_width = image->width;
-    report_.image_height = image->height;
-    report_.image_cached = image->tiles != nullptr;
+    report_.image_width = image.width;
+    report_.image_height = image.height;
+    report_.image_cached = image.tiles != nullptr;
     // The file's levels, unless linear light needs its own (working_image).
-    if (ewa && image->mip && !(linear && image->color_space == ColorSpace::kSrgb)) {
-      report_.image_mip_levels = static_cast<int>(image->mip->levels.size());
+    if (ewa && image.mip && !(linear && image.color_space == ColorSpace::kSrgb)) {
+      report_.image_mip_levels = static_cast<int>(image.mip->levels.size());
     }
-    for (const std::string& w : image_warnings(*image, job_.texture.string())) warn(w);
-    return image;
+    for (const std::string& w : image_warnings(image, job_.texture.string())) warn(w);
+    return held;
   }
 
   Status check_proxy_options() const {
@@ -200,18 +243,18 @@ class JobRun {
     report_.options = job_.shading;
 
     auto stage = Clock::now();
-    Expected<LoadedMesh> mesh = read_job_mesh();
+    Expected<Held<LoadedMesh>> mesh = read_job_mesh();
     if (!mesh) return mesh.error();
     report_.load = seconds_since(stage);
     // Nothing to bake is the mesh's problem, reported before a fit's.
-    if (Status s = check_triangles(mesh->mesh); !s) return mesh_error(s.error());
-    Expected<Proxy> proxy = job_proxy(mesh->mesh, run);
+    if (Status s = check_triangles(mesh->get().mesh); !s) return mesh_error(s.error());
+    Expected<Proxy> proxy = job_proxy(mesh->get().mesh, run);
     if (!proxy) return proxy.error();
     report_.proxy = params_of(*proxy);
     report_.fitted_flags = result_.fitted;
 
     stage = Clock::now();
-    Expected<Image> image = read_texture();
+    Expected<Held<Image>> image = read_texture();
     if (!image) return image.error();
     report_.load += seconds_since(stage);
 
@@ -220,7 +263,7 @@ class JobRun {
       options.bake.shading = job_.shading;
       // The bake takes the loaded mesh (one mesh in memory, not two).
       Expected<Atlas> baked =
-          bake_atlas_texture(std::move(mesh->mesh), image->view(), *proxy, options, run);
+          bake_atlas_texture(mesh->take().mesh, image->get().view(), *proxy, options, run);
       if (!baked) return mesh_error(baked.error());
       for (const std::string& w : baked->stats.warnings) warn(w);
       report_.stats = result_.stats = baked->stats;
@@ -242,13 +285,15 @@ class JobRun {
           c.occluded, c.outside, c.padded);
       return ok_status();
     }
-    // Sample, free the image, fill; write.
+    // Sample, free the image (unless the cache keeps it for the next job), fill; write.
     Expected<VertexColors> baked =
-        bake_vertex_colors(mesh->mesh, std::move(*image), *proxy, job_.shading, run);
+        image->own()
+            ? bake_vertex_colors(mesh->get().mesh, image->take(), *proxy, job_.shading, run)
+            : bake_vertex_colors(mesh->get().mesh, image->get().view(), *proxy, job_.shading, run);
     if (!baked) return mesh_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
     report_.stats = result_.stats = baked->stats;
-    if (Status s = write_vertex_set(mesh->mesh, baked->colors,
+    if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,
                                     [&](double write) {
                                       report_.write = write;
                                       report_.total = seconds_since(start_);
@@ -319,16 +364,17 @@ class JobRun {
     if (job_.on_note) {
       for (const std::string& n : notes) job_.on_note(n);
     }
-    Expected<LoadedMesh> mesh = read_job_mesh();
+    Expected<Held<LoadedMesh>> mesh = read_job_mesh();
     if (!mesh) return mesh.error();
-    if (Status s = check_alignment(mesh->mesh); !s) return s;
+    if (Status s = check_alignment(mesh->get().mesh); !s) return s;
     const double load = seconds_since(stage);
     PhotoBakeOptions options = job_.photo_options;
+    options.consistency_warning = job_.alignment_check;
     if (job_.photo) options = camera_proxy_options(options);
     const RunOptions run = run_options();
     if (atlas()) {
       Expected<PhotoAtlas> baked =
-          bake_atlas_texture_from_photos(mesh->mesh, *photos, options, job_.atlas, run);
+          bake_atlas_texture_from_photos(mesh->get().mesh, *photos, options, job_.atlas, run);
       if (!baked) return photo_error(baked.error());
       for (const std::string& w : baked->atlas.stats.warnings) warn(w);
       result_.stats = baked->atlas.stats;
@@ -348,11 +394,12 @@ class JobRun {
           c.samples, c.occluded, c.padded, baked->cameras.size());
       return ok_status();
     }
-    Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh->mesh, *photos, options, run);
+    Expected<PhotoColors> baked =
+        bake_vertex_colors_from_photos(mesh->get().mesh, *photos, options, run);
     if (!baked) return photo_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
     result_.stats = baked->stats;
-    if (Status s = write_vertex_set(mesh->mesh, baked->colors,
+    if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,
                                     [&](double write) {
                                       return photo_report(job_, *baked, load, write,
                                                           seconds_since(start_));
@@ -373,17 +420,17 @@ class JobRun {
     auto stage = Clock::now();
     Expected<LayersSpec> spec = read_layers(job_.layers);
     if (!spec) return spec.error();
-    Expected<LoadedMesh> mesh = read_job_mesh(/*check_uv=*/false);
+    Expected<Held<LoadedMesh>> mesh = read_job_mesh(/*check_uv=*/false);
     if (!mesh) return mesh.error();
-    if (atlas() && mesh->mesh.has_texture()) {
+    if (atlas() && mesh->get().mesh.has_texture()) {
       // Nor the base texture, named by the mesh.
-      const std::vector<NamedFile> read{{"the texture of MESH", mesh->mesh.texture_path}};
+      const std::vector<NamedFile> read{{"the texture of MESH", mesh->get().mesh.texture_path}};
       if (Status s = check_distinct_files(read, job_outputs(files())); !s) return s;
     }
     // Each "cameras" layer's model, as a photo bake's.
     for (const LayerSpec& layer : spec->layers) {
       if (layer.cameras.empty()) continue;
-      if (Status s = check_alignment(mesh->mesh, layer.cameras); !s) return s;
+      if (Status s = check_alignment(mesh->get().mesh, layer.cameras); !s) return s;
     }
     const double load = seconds_since(stage);
     LayersBakeOptions options = job_.layers_options;
@@ -392,15 +439,16 @@ class JobRun {
     options.cache_mb = job_.cache_mb;
     const RunOptions run = run_options();
     if (atlas()) {
-      if (spec->base == LayerBase::kMesh && mesh->mesh.has_texture() &&
-          mesh->issues.other_material_primitives > 0) {
-        warn(job_.mesh.string() + ": " + std::to_string(mesh->issues.other_material_primitives) +
+      if (spec->base == LayerBase::kMesh && mesh->get().mesh.has_texture() &&
+          mesh->get().issues.other_material_primitives > 0) {
+        warn(job_.mesh.string() + ": " +
+             std::to_string(mesh->get().issues.other_material_primitives) +
              " primitive(s) use another material: base \"mesh\" is the first material's "
              "texture (" +
-             mesh_texture_label(mesh->mesh) + ") over every triangle");
+             mesh_texture_label(mesh->get().mesh) + ") over every triangle");
       }
       Expected<LayerAtlas> baked =
-          bake_atlas_texture_from_layers(mesh->mesh, *spec, options, job_.atlas, run);
+          bake_atlas_texture_from_layers(mesh->get().mesh, *spec, options, job_.atlas, run);
       if (!baked) return mesh_error(baked.error());
       for (const std::string& w : baked->atlas.stats.warnings) warn(w);
       result_.stats = baked->atlas.stats;
@@ -420,11 +468,12 @@ class JobRun {
           c.texels, c.samples, c.occluded, c.padded, baked->layers.size());
       return ok_status();
     }
-    Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh->mesh, *spec, options, run);
+    Expected<LayerColors> baked =
+        bake_vertex_colors_from_layers(mesh->get().mesh, *spec, options, run);
     if (!baked) return mesh_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
     result_.stats = baked->stats;
-    if (Status s = write_vertex_set(mesh->mesh, baked->colors,
+    if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,
                                     [&](double write) {
                                       return layers_report(job_, *baked, load, write,
                                                            seconds_since(start_));

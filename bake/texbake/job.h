@@ -23,6 +23,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +33,40 @@
 namespace texbake {
 
 enum class JobTarget { kVertex, kAtlas };
+
+// What jobs run one after another in one process share (run_batch makes
+// one for its jobs; Python's texbake.run_batch too): the last mesh and the
+// last texture read, handed to a later job that reads the same file (the
+// same path, size and modification time; a texture also with the same read
+// options) instead of reading and decoding it again. It holds one mesh and
+// one texture at most: a job that reads another file drops the old one
+// first, so a batch's memory peak is that of its largest job plus, at most,
+// the last mesh and texture while a job that needs neither runs. Results are
+// the same bytes as without it. Thread-safe.
+class JobCache {
+ public:
+  JobCache();
+  ~JobCache();
+  JobCache(const JobCache&) = delete;
+  JobCache& operator=(const JobCache&) = delete;
+
+  // read_mesh(path, run), or the cached result of the same file. The mesh is
+  // shared: a caller that changes it copies it first.
+  Expected<std::shared_ptr<const LoadedMesh>> mesh(const std::filesystem::path& path,
+                                                   const RunOptions& run = {});
+  // read_image(path, options), or the cached result of the same file and options.
+  Expected<std::shared_ptr<const Image>> image(const std::filesystem::path& path,
+                                               const ImageReadOptions& options);
+
+  struct Counts {
+    std::size_t mesh_reads = 0, mesh_hits = 0, image_reads = 0, image_hits = 0;
+  };
+  Counts counts() const;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 // One bake onto a mesh, of one of three kinds by the inputs given: an
 // image through a proxy (texture + proxy or spec), calibrated photographs
@@ -87,6 +122,9 @@ struct Job {
   std::size_t cache_mb = kDefaultCacheMb;  // the image cache's budget (large textures)
   int threads = 0;                         // 0: all cores
   ProgressCallback progress;               // may be empty
+  // Shared with the jobs before and after it (JobCache); null: every file
+  // is read anew.
+  std::shared_ptr<JobCache> cache;
 
   // Called as they happen (e.g. to print them live): each warning (also
   // in JobResult::warnings) and each note ("fitted sphere (center radius)

@@ -559,6 +559,7 @@ Expected<Job> layers_job(const Parsed& p, bool atlas) {
   job.alignment_check = !p.no_alignment_check;
   set_occluded(p, job.layers_options);
   job.layers_options.strict_photos = p.strict_photos;
+  job.layers_options.consistency_warning = !p.no_alignment_check;
   if (atlas) {
     if (Status s = check_uv_not_proxy(p, Kind::kLayers); !s) return s.error();
     Expected<AtlasOptions> a = atlas_options(p, VertexBakeOptions{});
@@ -837,7 +838,8 @@ class ResultsFile {
 
 // One job of the batch: parsed, checked against the batch's files, skipped
 // when up to date, or run.
-BatchJobResult run_batch_job(const BatchJob& line, const BatchOptions& options) {
+BatchJobResult run_batch_job(const BatchJob& line, const BatchOptions& options,
+                             const std::shared_ptr<JobCache>& cache) {
   BatchJobResult r;
   r.line = line.line;
   const auto start = Clock::now();
@@ -849,6 +851,7 @@ BatchJobResult run_batch_job(const BatchJob& line, const BatchOptions& options) 
   JobFileNames names;
   if (job) {
     if (job->threads == 0) job->threads = options.threads;
+    job->cache = cache;
     names = job_file_names(*job);
     for (const NamedFile& out : job_outputs(names)) r.outputs.push_back(out.path);
     // No output may be an input: the jobs file is an input, the results
@@ -890,8 +893,10 @@ BatchResult run_batch(std::span<const BatchJob> jobs, const BatchOptions& option
     batch.error = s.error();
     return batch;
   }
+  // The jobs share what they read (a mesh or texture of several jobs is read once).
+  const auto cache = options.cache ? options.cache : std::make_shared<JobCache>();
   for (const BatchJob& line : jobs) {
-    BatchJobResult r = run_batch_job(line, options);
+    BatchJobResult r = run_batch_job(line, options, cache);
     ++(r.status == "ok" ? batch.ok : r.status == "skipped" ? batch.skipped : batch.failed);
     if (Status s = results.append(r.json); !s) {
       batch.error = s.error();

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -146,6 +147,8 @@ struct BatchOptions {
   int threads = 0;             // the threads of a job without "threads" (0: all cores)
   // Called as each job ends (e.g. to print a line). May be empty.
   std::function<void(const BatchJobResult&)> on_job_end;
+  // What the jobs share (JobCache, texbake/job.h): null, one for this batch.
+  std::shared_ptr<JobCache> cache;
 };
 
 struct BatchResult {

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -338,6 +339,74 @@ TEST_F(BatchRun, EachJobIsRecordedAsItEndsAndAFailureIsItsOwn) {
   const BatchResult again = run_batch(jobs, options);
   EXPECT_EQ(again.skipped, 2u);
   EXPECT_EQ(again.jobs[0].status, "skipped");
+}
+
+TEST_F(BatchRun, JobsShareTheMeshAndTextureTheyReadAndWriteTheSameBytes) {
+  // Four jobs on one mesh and one texture: a vertex bake, the same with
+  // another filter (the same files), an atlas (which consumes a copy of the
+  // shared mesh) and a vertex bake with another texture colour space (the
+  // texture read again: other read options). Each writes the bytes of the
+  // same job run alone, without the cache.
+  const std::vector<std::string> more = {"", R"(, "filter": "area")",
+                                         R"(, "size": 64, "samples": 1)",
+                                         R"(, "texture_colorspace": "linear")"};
+  const std::vector<fs::path> outputs = {dir_ / "a.ply", dir_ / "b.ply", dir_ / "c.obj",
+                                         dir_ / "d.ply"};
+  std::vector<BatchJob> jobs;
+  for (std::size_t i = 0; i < more.size(); ++i) {
+    std::string l = line(outputs[i], more[i]);
+    if (i == 1) l.replace(l.find(R"("filter": "bilinear", )"), 22, "");  // one filter key
+    jobs.push_back({i + 1, l});
+  }
+  BatchOptions options;
+  options.cache = std::make_shared<JobCache>();
+  const BatchResult batch = run_batch(jobs, options);
+  ASSERT_FALSE(batch.error);
+  ASSERT_EQ(batch.ok, 4u) << (batch.failed ? batch.jobs[0].json : "");
+  const JobCache::Counts counts = options.cache->counts();
+  EXPECT_EQ(counts.mesh_reads, 1u);
+  EXPECT_EQ(counts.mesh_hits, 3u);
+  EXPECT_EQ(counts.image_reads, 2u);  // the fourth job's colour space
+  EXPECT_EQ(counts.image_hits, 2u);
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    Expected<std::vector<JobSetting>> settings = job_settings_from_json(jobs[i].json);
+    ASSERT_TRUE(settings);
+    Expected<Job> alone = job_from_settings(*settings);
+    ASSERT_TRUE(alone);
+    const fs::path moved = dir_ / ("alone_" + outputs[i].filename().string());
+    alone->output = moved;
+    ASSERT_TRUE(run_job(*alone).ok()) << i;
+    if (outputs[i].extension() == ".obj") {
+      // The atlas image (the .obj and .mtl name their own files).
+      fs::path png = outputs[i], alone_png = moved;
+      EXPECT_EQ(bytes(png.replace_extension(".png")), bytes(alone_png.replace_extension(".png")));
+    } else {
+      EXPECT_EQ(bytes(outputs[i]), bytes(moved)) << i;
+    }
+  }
+}
+
+TEST_F(BatchRun, ACachedFileChangedOnDiskIsReadAgain) {
+  const fs::path mesh = dir_ / "m.off";
+  fs::copy_file(kData / "bunny00.off", mesh);
+  JobCache cache;
+  Expected<std::shared_ptr<const LoadedMesh>> first = cache.mesh(mesh);
+  ASSERT_TRUE(first);
+  Expected<std::shared_ptr<const LoadedMesh>> again = cache.mesh(mesh);
+  ASSERT_TRUE(again);
+  EXPECT_EQ(first->get(), again->get());  // the same object
+  // Another mesh at the same path (a tetrahedron, 4 vertices), written later.
+  std::ofstream(mesh) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                         "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  fs::last_write_time(mesh, fs::last_write_time(mesh) + std::chrono::seconds(2));
+  Expected<std::shared_ptr<const LoadedMesh>> changed = cache.mesh(mesh);
+  ASSERT_TRUE(changed);
+  EXPECT_EQ((*changed)->mesh.positions.size(), 4u);
+  EXPECT_EQ(cache.counts().mesh_reads, 2u);
+  EXPECT_EQ(cache.counts().mesh_hits, 1u);
+  // A file that cannot be read is the reader's error, and not cached.
+  EXPECT_FALSE(cache.mesh(dir_ / "missing.off"));
+  EXPECT_FALSE(cache.image(dir_ / "missing.png", {}));
 }
 
 TEST_F(BatchRun, NoJobMayWriteTheManifestOrTheResults) {
