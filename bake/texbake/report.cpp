@@ -73,6 +73,46 @@ ordered_json atlas_json(const AtlasReport& a, const Stats& stats, double write) 
   return j;
 }
 
+ordered_json counts_json(ReportSource source, bool atlas, const Counts& c) {
+  ordered_json j = {{"vertices", c.vertices}, {"triangles", c.triangles}};
+  if (source == ReportSource::kProxy) {
+    j["degenerate_skipped"] = c.degenerate_triangles;
+    j["unreferenced_vertices"] = c.unreferenced_vertices;
+    if (atlas) j["texels"] = c.texels;
+    j["samples"] = c.samples;
+    j["occluded"] = c.occluded;
+    j["undefined"] = c.undefined;
+    j["outside"] = c.outside;
+    if (atlas) {
+      j["padded"] = c.padded;
+    } else {
+      j["filled"] = c.filled;
+      j["unfilled"] = c.unfilled;
+    }
+  } else if (source == ReportSource::kPhotos && !atlas) {
+    j["camera_samples"] = c.samples;
+    j["unseen"] = c.occluded;
+    j["filled"] = c.filled;
+    j["unfilled"] = c.unfilled;
+  } else if (source == ReportSource::kPhotos) {
+    j["texels"] = c.texels;
+    j["samples"] = c.samples;
+    j["unseen"] = c.occluded;
+    j["filled"] = c.filled;
+    j["unfilled_vertices"] = c.unfilled;
+    j["padded"] = c.padded;
+  } else if (!atlas) {
+    j["uncovered"] = c.occluded;
+    j["filled"] = c.filled;
+  } else {
+    j["texels"] = c.texels;
+    j["samples"] = c.samples;
+    j["uncovered"] = c.occluded;
+    j["padded"] = c.padded;
+  }
+  return j;
+}
+
 std::string report_json(const BakeReport& r) {
   ordered_json j;
   j["command"] = "bake";
@@ -115,23 +155,8 @@ std::string report_json(const BakeReport& r) {
   o["threads"] = r.threads;
   j["proxy"] = proxy_json(r.proxy);
   j["proxy_fitted"] = r.fitted_flags;
-  ordered_json& c = j["counts"];
-  c["vertices"] = counts.vertices;
-  c["triangles"] = counts.triangles;
-  c["degenerate_skipped"] = counts.degenerate_triangles;
-  c["unreferenced_vertices"] = counts.unreferenced_vertices;
-  if (atlas) c["texels"] = counts.texels;
-  c["samples"] = counts.samples;
-  c["occluded"] = counts.occluded;
-  c["undefined"] = counts.undefined;
-  c["outside"] = counts.outside;
-  if (atlas) {
-    c["padded"] = counts.padded;
-    j["atlas"] = atlas_json(*r.atlas, r.stats, r.write);
-  } else {
-    c["filled"] = counts.filled;
-    c["unfilled"] = counts.unfilled;
-  }
+  j["counts"] = counts_json(ReportSource::kProxy, atlas, counts);
+  if (atlas) j["atlas"] = atlas_json(*r.atlas, r.stats, r.write);
   ordered_json& t = j["timings"];
   t["load"] = r.load;
   t["fit"] = r.fit;
@@ -247,15 +272,7 @@ std::string photo_atlas_report(const Job& job, const PhotoAtlas& baked, double l
   j["target"] = "atlas";
   j["inputs"] = photo_inputs(job);
   const Stats& st = baked.atlas.stats;
-  const Counts& c = st.counts;
-  j["counts"] = {{"vertices", c.vertices},
-                 {"triangles", c.triangles},
-                 {"texels", c.texels},
-                 {"samples", c.samples},
-                 {"unseen", c.occluded},
-                 {"filled", c.filled},
-                 {"unfilled_vertices", c.unfilled},
-                 {"padded", c.padded}};
+  j["counts"] = counts_json(ReportSource::kPhotos, /*atlas=*/true, st.counts);
   j["atlas"] = atlas_json(AtlasReport{job.atlas.bake, baked.atlas.uv}, st, write);
   j["cameras"] = cameras_json(baked.cameras);
   j["photos_skipped"] = skipped_photos_json(baked.skipped);
@@ -279,10 +296,7 @@ std::string photo_report(const Job& job, const PhotoColors& baked, double load, 
   j["command"] = "bake";
   j["target"] = "vertex";
   j["inputs"] = photo_inputs(job);
-  const Counts& c = baked.stats.counts;
-  j["counts"] = {{"vertices", c.vertices},      {"triangles", c.triangles},
-                 {"camera_samples", c.samples}, {"unseen", c.occluded},
-                 {"filled", c.filled},          {"unfilled", c.unfilled}};
+  j["counts"] = counts_json(ReportSource::kPhotos, /*atlas=*/false, baked.stats.counts);
   j["cameras"] = cameras_json(baked.cameras);
   j["photos_skipped"] = skipped_photos_json(baked.skipped);
   const Timings& t = baked.stats.timings;
@@ -305,9 +319,7 @@ std::string layers_atlas_report(const Job& job, const LayerAtlas& baked, double 
                  {"output", job.output.string()},
                  {"options", {{"threads", job.threads}}}};
   const Stats& st = baked.atlas.stats;
-  const Counts& c = st.counts;
-  j["counts"] = {{"vertices", c.vertices}, {"triangles", c.triangles}, {"texels", c.texels},
-                 {"samples", c.samples},   {"uncovered", c.occluded},  {"padded", c.padded}};
+  j["counts"] = counts_json(ReportSource::kLayers, /*atlas=*/true, st.counts);
   AtlasBakeOptions options = job.atlas.bake;
   options.size = baked.atlas.image.width;
   j["atlas"] = atlas_json(AtlasReport{options, baked.atlas.uv}, st, write);
@@ -331,11 +343,7 @@ std::string layers_report(const Job& job, const LayerColors& baked, double load,
                  {"layers", job.layers.string()},
                  {"output", job.output.string()},
                  {"options", {{"threads", job.threads}}}};
-  const Counts& c = baked.stats.counts;
-  j["counts"] = {{"vertices", c.vertices},
-                 {"triangles", c.triangles},
-                 {"uncovered", c.occluded},
-                 {"filled", c.filled}};
+  j["counts"] = counts_json(ReportSource::kLayers, /*atlas=*/false, baked.stats.counts);
   j["layers"] = layers_json(baked.layers);
   const Timings& t = baked.stats.timings;
   j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
