@@ -43,26 +43,13 @@ std::vector<Photo> read_camera(const py::handle& camera, const py::handle& photo
   return check(read_camera_proxy(c, p));
 }
 
-// The photos a bake left out (cannot be read), as the report lists them.
-py::list skipped_list(const std::vector<SkippedPhoto>& skipped) {
-  py::list out;
-  for (const SkippedPhoto& k : skipped) {
-    py::dict d;
-    d["image"] = k.name;
-    d["path"] = k.path.string();
-    d["reason"] = k.reason;
-    out.append(d);
-  }
-  return out;
-}
-
 py::tuple vertex_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& photos,
                              const PhotoBakeOptions& o, py::handle threads, py::object progress) {
   PyRun run(threads, std::move(progress));
   PhotoColors baked = run_released<PhotoColors>(run, [&](const RunOptions& r) {
     return bake_vertex_colors_from_photos(mesh.mesh, photos, o, r);
   });
-  py::dict stats = stats_dict(baked.stats);
+  py::dict stats = bake_stats(baked.stats, ReportSource::kPhotos, /*atlas=*/false);
   stats["photos_skipped"] = skipped_list(baked.skipped);
   return py::make_tuple(colors_array(baked.colors), stats, cameras_list(baked.cameras));
 }
@@ -75,7 +62,8 @@ py::tuple atlas_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& ph
     return bake_atlas_texture_from_photos(mesh.mesh, photos, o, a, r);
   });
   py::list cameras = cameras_list(baked.cameras);
-  return py::make_tuple(std::move(baked.atlas), cameras);
+  return py::make_tuple(atlas_result(std::move(baked.atlas), ReportSource::kPhotos, &baked.skipped),
+                        cameras);
 }
 
 // The atlas options of a bake without a proxy (the shading is not used).
@@ -140,7 +128,8 @@ void bind_layer_bakes(py::module_& m) {
           LayerColors baked = run_released<LayerColors>(run, [&](const RunOptions& r) {
             return bake_vertex_colors_from_layers(mesh.mesh, spec, o, r);
           });
-          return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats),
+          return py::make_tuple(colors_array(baked.colors),
+                                bake_stats(baked.stats, ReportSource::kLayers, /*atlas=*/false),
                                 layers_list(baked.layers));
         });
   m.def("bake_atlas_from_layers", [](const LoadedMesh& mesh, py::handle layers, py::handle occluded,
@@ -159,7 +148,7 @@ void bind_layer_bakes(py::module_& m) {
       return bake_atlas_texture_from_layers(mesh.mesh, spec, o, a, r);
     });
     py::list per_layer = layers_list(baked.layers);
-    return py::make_tuple(std::move(baked.atlas), per_layer);
+    return py::make_tuple(atlas_result(std::move(baked.atlas), ReportSource::kLayers), per_layer);
   });
 }
 

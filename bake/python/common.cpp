@@ -395,6 +395,35 @@ py::dict stats_dict(const Stats& s) {
   return out;
 }
 
+py::dict bake_stats(const Stats& s, ReportSource source, bool atlas) {
+  py::dict out = stats_dict(s);
+  out["counts"] =
+      py::module_::import("json").attr("loads")(counts_json(source, atlas, s.counts).dump());
+  return out;
+}
+
+py::object atlas_result(Atlas&& atlas, ReportSource source,
+                        const std::vector<SkippedPhoto>* skipped) {
+  py::dict report;
+  report["counts"] = bake_stats(atlas.stats, source, /*atlas=*/true)["counts"];
+  if (skipped) report["photos_skipped"] = skipped_list(*skipped);
+  py::object out = py::cast(std::move(atlas));
+  out.attr("_report") = report;  // read by Atlas.stats (bind_bake.cpp)
+  return out;
+}
+
+py::list skipped_list(const std::vector<SkippedPhoto>& skipped) {
+  py::list out;
+  for (const SkippedPhoto& k : skipped) {
+    py::dict d;
+    d["image"] = k.name;
+    d["path"] = k.path.string();
+    d["reason"] = k.reason;
+    out.append(d);
+  }
+  return out;
+}
+
 py::list cameras_list(const std::vector<PhotoCameraStats>& cameras) {
   py::list out;
   for (const PhotoCameraStats& c : cameras) {
@@ -420,6 +449,7 @@ py::list layers_list(const std::vector<LayerStats>& layers) {
     d["blended"] = l.blended;
     d["mean_alpha"] = l.mean_alpha;
     d["seconds"] = l.seconds;
+    if (l.photos) d["photos_skipped"] = skipped_list(l.skipped);
     out.append(d);
   }
   return out;
