@@ -89,7 +89,7 @@ py::object bake_atlas(const LoadedMesh& mesh, py::handle image, py::handle proxy
   Atlas baked = run_released<Atlas>(run, [&](const RunOptions& r) {
     return bake_atlas_texture(mesh.mesh, img.view, p.proxy, o, r);
   });
-  return atlas_result(std::move(baked), ReportSource::kProxy);
+  return atlas_result(std::move(baked), ReportSource::kProxy, o.bake);
 }
 
 }  // namespace

@@ -62,8 +62,8 @@ py::tuple atlas_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& ph
     return bake_atlas_texture_from_photos(mesh.mesh, photos, o, a, r);
   });
   py::list cameras = cameras_list(baked.cameras);
-  return py::make_tuple(atlas_result(std::move(baked.atlas), ReportSource::kPhotos, &baked.skipped),
-                        cameras);
+  return py::make_tuple(
+      atlas_result(std::move(baked.atlas), ReportSource::kPhotos, a.bake, &baked.skipped), cameras);
 }
 
 // The atlas options of a bake without a proxy (the shading is not used).
@@ -128,9 +128,10 @@ void bind_layer_bakes(py::module_& m) {
           LayerColors baked = run_released<LayerColors>(run, [&](const RunOptions& r) {
             return bake_vertex_colors_from_layers(mesh.mesh, spec, o, r);
           });
-          return py::make_tuple(colors_array(baked.colors),
-                                bake_stats(baked.stats, ReportSource::kLayers, /*atlas=*/false),
-                                layers_list(baked.layers));
+          return py::make_tuple(
+              colors_array(baked.colors),
+              bake_stats(baked.stats, ReportSource::kLayers, /*atlas=*/false, baked.layers),
+              layers_list(baked.layers));
         });
   m.def("bake_atlas_from_layers", [](const LoadedMesh& mesh, py::handle layers, py::handle occluded,
                                      py::handle uv, py::handle size, py::handle samples,
@@ -148,7 +149,9 @@ void bind_layer_bakes(py::module_& m) {
       return bake_atlas_texture_from_layers(mesh.mesh, spec, o, a, r);
     });
     py::list per_layer = layers_list(baked.layers);
-    return py::make_tuple(atlas_result(std::move(baked.atlas), ReportSource::kLayers), per_layer);
+    return py::make_tuple(
+        atlas_result(std::move(baked.atlas), ReportSource::kLayers, a.bake, nullptr, baked.layers),
+        per_layer);
   });
 }
 

@@ -395,17 +395,34 @@ py::dict stats_dict(const Stats& s) {
   return out;
 }
 
-py::dict bake_stats(const Stats& s, ReportSource source, bool atlas) {
+namespace {
+
+// A report's JSON value as Python's (json.loads of its text).
+py::object from_json(const nlohmann::ordered_json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+}  // namespace
+
+py::dict bake_stats(const Stats& s, ReportSource source, bool atlas,
+                    const std::vector<LayerStats>& layers) {
   py::dict out = stats_dict(s);
-  out["counts"] =
-      py::module_::import("json").attr("loads")(counts_json(source, atlas, s.counts).dump());
+  out["counts"] = from_json(counts_json(source, atlas, s.counts));
+  nlohmann::ordered_json timings = stage_timings_json(source, atlas, s.timings, layers);
+  timings["total"] = s.timings.total;
+  out["timings"] = from_json(timings);
   return out;
 }
 
-py::object atlas_result(Atlas&& atlas, ReportSource source,
-                        const std::vector<SkippedPhoto>* skipped) {
-  py::dict report;
-  report["counts"] = bake_stats(atlas.stats, source, /*atlas=*/true)["counts"];
+py::object atlas_result(Atlas&& atlas, ReportSource source, const AtlasBakeOptions& options,
+                        const std::vector<SkippedPhoto>* skipped,
+                        const std::vector<LayerStats>& layers) {
+  py::dict report = bake_stats(atlas.stats, source, /*atlas=*/true, layers);
+  AtlasBakeOptions reported = options;
+  reported.size = atlas.image.width;  // a layers bake's size 0: the base texture's
+  nlohmann::ordered_json object = atlas_json(AtlasReport{reported, atlas.uv}, atlas.stats, 0);
+  object.erase("timings");
+  report["atlas"] = from_json(object);
   if (skipped) report["photos_skipped"] = skipped_list(*skipped);
   py::object out = py::cast(std::move(atlas));
   out.attr("_report") = report;  // read by Atlas.stats (bind_bake.cpp)

@@ -202,13 +202,19 @@ AtlasOptions atlas_options(const py::handle& uv, const py::handle& size, const p
 
 // counts (every counter by its Stats name), timings, warnings: render's.
 py::dict stats_dict(const Stats& s);
-// A bake's stats: stats_dict with the report's "counts" (texbake/report.h
-// counts_json: the names `texbake bake --report` gives the figures).
-py::dict bake_stats(const Stats& s, ReportSource source, bool atlas);
-// An atlas bake's result: the Atlas, whose `stats` are bake_stats (and
-// "photos_skipped" when `skipped` is given).
-py::object atlas_result(Atlas&& atlas, ReportSource source,
-                        const std::vector<SkippedPhoto>* skipped = nullptr);
+// A bake's stats: stats_dict with the report's "counts" and "timings" (the
+// names `texbake bake --report` gives the figures: texbake/report.h
+// counts_json, stage_timings_json of `layers`, and the call's "total").
+py::dict bake_stats(const Stats& s, ReportSource source, bool atlas,
+                    const std::vector<LayerStats>& layers = {});
+// An atlas bake's result: the Atlas, whose `stats` are bake_stats, with
+// "atlas" the report's atlas object (its size, samples_per_texel, padding,
+// counts, uv, uv_check or charts ...: atlas_json for `options` at the
+// image's size; its timings are the stats') and "photos_skipped" when
+// `skipped` is given.
+py::object atlas_result(Atlas&& atlas, ReportSource source, const AtlasBakeOptions& options,
+                        const std::vector<SkippedPhoto>* skipped = nullptr,
+                        const std::vector<LayerStats>& layers = {});
 py::list cameras_list(const std::vector<PhotoCameraStats>& cameras);
 // The photos a bake left out (cannot be read): image, path, reason.
 py::list skipped_list(const std::vector<SkippedPhoto>& skipped);

@@ -1,6 +1,8 @@
 """The Python bakes' results name their figures as the command line's
 --report does for the same job: each call's stats["counts"] equals the
-report's "counts" (same keys, same values), the photo bakes of either target
+report's "counts" (same keys, same values), its timings are the report's
+stages by name, an atlas's stats["atlas"] is the report's atlas object
+(size, samples_per_texel, padding, counts, uv ...), the photo bakes of either target
 list the photos left out ("photos_skipped"), and so does each cameras layer
 of a layers bake. An unreadable photo in the workspace leaves the atlas as
 it is without that photo."""
@@ -43,6 +45,24 @@ def cli_report(tmp_path, *args):
     return json.loads(report.read_text())
 
 
+def same_as_report(stats, report):
+    """stats (a call's, or an atlas's) name their figures as the report:
+    counts equal key for key, the timings are the report's stages (not the
+    job's load, fit, write; total is the call's), an atlas's "atlas" object
+    equals the report's less its timings, photos_skipped equal."""
+    assert stats["counts"] == report["counts"]
+    stages = [k for k in report["timings"] if k not in ("load", "fit", "write", "total")]
+    assert list(stats["timings"]) == stages + ["total"]
+    if "per_layer" in stages:
+        assert len(stats["timings"]["per_layer"]) == len(report["timings"]["per_layer"])
+    if "atlas" in report:
+        assert stats["atlas"] == {k: v for k, v in report["atlas"].items() if k != "timings"}
+    else:
+        assert "atlas" not in stats
+    if "photos_skipped" in report:
+        assert stats["photos_skipped"] == report["photos_skipped"]
+
+
 def camera_file(ws, tmp_path, name):
     """The camera of photo `name` as a camera proxy file (SPEC section 9),
     from the workspace's text model."""
@@ -69,7 +89,7 @@ def test_proxy_bakes_count_as_the_report(tmp_path, mesh, earth):
     report = cli_report(tmp_path, BUNNY, "--texture", EARTH, *SPHERE_FLAGS, "-o",
                         tmp_path / "v.ply")
     _, stats = texbake.bake_vertex(mesh, earth, proxy)
-    assert stats["counts"] == report["counts"]
+    same_as_report(stats, report)
     assert set(stats["counts"]) == {"vertices", "triangles", "degenerate_skipped",
                                     "unreferenced_vertices", "samples", "occluded",
                                     "undefined", "outside", "filled", "unfilled"}
@@ -77,7 +97,8 @@ def test_proxy_bakes_count_as_the_report(tmp_path, mesh, earth):
     report = cli_report(tmp_path, BUNNY, "--texture", EARTH, *SPHERE_FLAGS, "--size", "64",
                         "-o", tmp_path / "a.obj")
     atlas = texbake.bake_atlas(mesh, earth, proxy, size=64)
-    assert atlas.stats["counts"] == report["counts"]
+    same_as_report(atlas.stats, report)
+    assert atlas.stats["atlas"]["padding"] == 1  # 8 at 2048, scaled to 64: at least 1
     assert atlas.stats["counts"]["texels"] > 0 and "filled" not in atlas.stats["counts"]
 
 
@@ -85,13 +106,13 @@ def test_photo_and_camera_bakes_count_as_the_report(tmp_path, mesh, workspace):
     sparse = workspace / "sparse" / "0"
     report = cli_report(tmp_path, BUNNY, "--cameras", sparse, "-o", tmp_path / "p.ply")
     _, stats, _ = texbake.bake_vertex_from_photos(mesh, cameras=sparse)
-    assert stats["counts"] == report["counts"]
+    same_as_report(stats, report)
     assert {"camera_samples", "unseen"} <= set(stats["counts"])
     assert stats["photos_skipped"] == report["photos_skipped"] == []
     report = cli_report(tmp_path, BUNNY, "--cameras", sparse, "--size", "64", "-o",
                         tmp_path / "p.obj")
     atlas, _ = texbake.bake_atlas_from_photos(mesh, cameras=sparse, size=64)
-    assert atlas.stats["counts"] == report["counts"]
+    same_as_report(atlas.stats, report)
     assert {"unseen", "unfilled_vertices"} <= set(atlas.stats["counts"])
     assert atlas.stats["photos_skipped"] == report["photos_skipped"] == []
     camera = camera_file(workspace, tmp_path, "view_01.png")
@@ -99,11 +120,11 @@ def test_photo_and_camera_bakes_count_as_the_report(tmp_path, mesh, workspace):
     report = cli_report(tmp_path, BUNNY, "--texture", photo, "--proxy-file", camera, "-o",
                         tmp_path / "c.ply")
     _, stats, _ = texbake.bake_vertex_from_camera(mesh, camera=camera, photo=photo)
-    assert stats["counts"] == report["counts"]
+    same_as_report(stats, report)
     report = cli_report(tmp_path, BUNNY, "--texture", photo, "--proxy-file", camera, "--size",
                         "64", "-o", tmp_path / "c.obj")
     atlas, _ = texbake.bake_atlas_from_camera(mesh, camera=camera, photo=photo, size=64)
-    assert atlas.stats["counts"] == report["counts"]
+    same_as_report(atlas.stats, report)
 
 
 def test_layers_bakes_count_as_the_report(tmp_path):
@@ -111,12 +132,15 @@ def test_layers_bakes_count_as_the_report(tmp_path):
     mesh = texbake.read_mesh(bottle)
     report = cli_report(tmp_path, bottle, "--layers", layers, "-o", tmp_path / "l.ply")
     _, stats, _ = texbake.bake_vertex_from_layers(mesh, layers=layers)
-    assert stats["counts"] == report["counts"]
+    same_as_report(stats, report)
     assert set(stats["counts"]) == {"vertices", "triangles", "uncovered", "filled"}
     report = cli_report(tmp_path, bottle, "--layers", layers, "--size", "64", "-o",
                         tmp_path / "l.obj")
     atlas, _ = texbake.bake_atlas_from_layers(mesh, layers=layers, size=64)
-    assert atlas.stats["counts"] == report["counts"]
+    same_as_report(atlas.stats, report)
+    # Without size: the report's size is the atlas's (the base texture's, else 2048).
+    atlas, _ = texbake.bake_atlas_from_layers(mesh, layers=layers, size=None, samples=1)
+    assert atlas.stats["atlas"]["size"] == atlas.image.shape[0] == 2048
 
 
 def without_photo(ws, name, out):

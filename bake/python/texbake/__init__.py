@@ -356,8 +356,11 @@ def bake_vertex(*mesh_image_proxy, filter=_v("filter"), samples=_v("samples"),
     Returns (colors (n, 4) float32 in the input's vertex order, stats dict:
     counts, timings in seconds, warnings). The counts are the CLI's --report
     "counts" for the same job, by the same names (vertices, triangles,
-    degenerate_skipped, ..., occluded, filled, unfilled); so are every
-    bake's. Progress stages: 'bake', 'fill'.
+    degenerate_skipped, ..., occluded, filled, unfilled), the timings its
+    stages' (scene_build, bake, fill) and the call's total; so are every
+    bake's, and an atlas's stats["atlas"] is the report's "atlas" object
+    (uv, size, samples_per_texel, padding, counts, ...) less its timings.
+    Progress stages: 'bake', 'fill'.
     """
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_vertex")
     return _texbake.bake_vertex(mesh, image, proxy, filter, samples, visibility,
