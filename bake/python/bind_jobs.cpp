@@ -55,6 +55,14 @@ py::list options_list() {
     d["type"] = type_name(o.type);
     d["value_name"] = std::string(o.value_name);
     d["default"] = std::string(o.default_text);
+    // The value it takes when not given, per target (None: worked out by the job).
+    py::dict values;
+    for (const auto& [target, name] :
+         {std::pair{JobTarget::kVertex, "vertex"}, std::pair{JobTarget::kAtlas, "atlas"}}) {
+      const std::string v = job_option_default(o, target);
+      values[name] = v.empty() ? py::object(py::none()) : py::object(py::str(v));
+    }
+    d["defaults"] = values;
     d["range"] = std::string(o.range);
     d["bakes"] = bakes_list(o.bakes);
     d["help"] = std::string(o.help);

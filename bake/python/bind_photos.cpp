@@ -43,19 +43,6 @@ std::vector<Photo> read_camera(const py::handle& camera, const py::handle& photo
   return check(read_camera_proxy(c, p));
 }
 
-// The photos a bake left out (cannot be read), as the report lists them.
-py::list skipped_list(const std::vector<SkippedPhoto>& skipped) {
-  py::list out;
-  for (const SkippedPhoto& k : skipped) {
-    py::dict d;
-    d["image"] = k.name;
-    d["path"] = k.path.string();
-    d["reason"] = k.reason;
-    out.append(d);
-  }
-  return out;
-}
-
 // PhotoConsistency, as the report's "photo_agreement".
 py::dict consistency_dict(const PhotoConsistency& c) {
   py::dict d;
@@ -72,7 +59,7 @@ py::tuple vertex_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& p
   PhotoColors baked = run_released<PhotoColors>(run, [&](const RunOptions& r) {
     return bake_vertex_colors_from_photos(mesh.mesh, photos, o, r);
   });
-  py::dict stats = stats_dict(baked.stats);
+  py::dict stats = bake_stats(baked.stats, ReportSource::kPhotos, /*atlas=*/false);
   stats["photos_skipped"] = skipped_list(baked.skipped);
   stats["photo_agreement"] = consistency_dict(baked.consistency);
   return py::make_tuple(colors_array(baked.colors), stats, cameras_list(baked.cameras));
@@ -86,7 +73,11 @@ py::tuple atlas_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& ph
     return bake_atlas_texture_from_photos(mesh.mesh, photos, o, a, r);
   });
   py::list cameras = cameras_list(baked.cameras);
-  return py::make_tuple(std::move(baked.atlas), cameras);
+  const PhotoConsistency consistency = baked.consistency;
+  py::object atlas =
+      atlas_result(std::move(baked.atlas), ReportSource::kPhotos, a.bake, &baked.skipped);
+  atlas.attr("_report")["photo_agreement"] = consistency_dict(consistency);
+  return py::make_tuple(atlas, cameras);
 }
 
 // The atlas options of a bake without a proxy (the shading is not used).
@@ -151,8 +142,10 @@ void bind_layer_bakes(py::module_& m) {
           LayerColors baked = run_released<LayerColors>(run, [&](const RunOptions& r) {
             return bake_vertex_colors_from_layers(mesh.mesh, spec, o, r);
           });
-          return py::make_tuple(colors_array(baked.colors), stats_dict(baked.stats),
-                                layers_list(baked.layers));
+          return py::make_tuple(
+              colors_array(baked.colors),
+              bake_stats(baked.stats, ReportSource::kLayers, /*atlas=*/false, baked.layers),
+              layers_list(baked.layers));
         });
   m.def("bake_atlas_from_layers", [](const LoadedMesh& mesh, py::handle layers, py::handle occluded,
                                      py::handle uv, py::handle size, py::handle samples,
@@ -170,7 +163,9 @@ void bind_layer_bakes(py::module_& m) {
       return bake_atlas_texture_from_layers(mesh.mesh, spec, o, a, r);
     });
     py::list per_layer = layers_list(baked.layers);
-    return py::make_tuple(std::move(baked.atlas), per_layer);
+    return py::make_tuple(
+        atlas_result(std::move(baked.atlas), ReportSource::kLayers, a.bake, nullptr, baked.layers),
+        per_layer);
   });
 }
 

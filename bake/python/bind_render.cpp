@@ -78,6 +78,27 @@ ColorSource color_source(const LoadedMesh& mesh, py::handle colors, py::handle t
   return GreySource{};
 }
 
+// The defaults of render's and compare's options (commands of their own,
+// outside the bake job's option table): their option structs'.
+py::dict render_defaults() {
+  const RenderOptions r;
+  const CompareOptions c;
+  const auto rgb = [](const Rgba& v) { return py::make_tuple(v[0], v[1], v[2]); };
+  py::dict render, compare;
+  render["size"] = py::make_tuple(r.width, r.height);
+  render["view"] = py::make_tuple(r.azimuth_deg, r.elevation_deg);
+  render["views"] = r.views;
+  render["samples"] = kRenderSamples;
+  render["shadows"] = r.shadows;
+  render["flat"] = !r.smooth_normals;
+  render["background"] = rgb(r.background);
+  compare["background"] = rgb(c.background);
+  py::dict out;
+  out["render"] = render;
+  out["compare"] = compare;
+  return out;
+}
+
 py::tuple render(const LoadedMesh& mesh, py::handle colors, py::handle texture, py::handle proxy,
                  py::handle atlas_image, py::handle outside, py::handle wrap, bool linear,
                  py::handle size, py::handle view, py::handle views, bool shadows,
@@ -128,6 +149,7 @@ py::dict compare(py::handle a, py::handle b, bool mask_background, py::handle ba
 }  // namespace
 
 void bind_render(py::module_& m) {
+  m.def("render_defaults", &render_defaults);
   m.def("render", &render);
   m.def("compare", &compare);
 }

@@ -395,6 +395,52 @@ py::dict stats_dict(const Stats& s) {
   return out;
 }
 
+namespace {
+
+// A report's JSON value as Python's (json.loads of its text).
+py::object from_json(const nlohmann::ordered_json& j) {
+  return py::module_::import("json").attr("loads")(j.dump());
+}
+
+}  // namespace
+
+py::dict bake_stats(const Stats& s, ReportSource source, bool atlas,
+                    const std::vector<LayerStats>& layers) {
+  py::dict out = stats_dict(s);
+  out["counts"] = from_json(counts_json(source, atlas, s.counts));
+  nlohmann::ordered_json timings = stage_timings_json(source, atlas, s.timings, layers);
+  timings["total"] = s.timings.total;
+  out["timings"] = from_json(timings);
+  return out;
+}
+
+py::object atlas_result(Atlas&& atlas, ReportSource source, const AtlasBakeOptions& options,
+                        const std::vector<SkippedPhoto>* skipped,
+                        const std::vector<LayerStats>& layers) {
+  py::dict report = bake_stats(atlas.stats, source, /*atlas=*/true, layers);
+  AtlasBakeOptions reported = options;
+  reported.size = atlas.image.width;  // a layers bake's size 0: the base texture's
+  nlohmann::ordered_json object = atlas_json(AtlasReport{reported, atlas.uv}, atlas.stats, 0);
+  object.erase("timings");
+  report["atlas"] = from_json(object);
+  if (skipped) report["photos_skipped"] = skipped_list(*skipped);
+  py::object out = py::cast(std::move(atlas));
+  out.attr("_report") = report;  // read by Atlas.stats (bind_bake.cpp)
+  return out;
+}
+
+py::list skipped_list(const std::vector<SkippedPhoto>& skipped) {
+  py::list out;
+  for (const SkippedPhoto& k : skipped) {
+    py::dict d;
+    d["image"] = k.name;
+    d["path"] = k.path.string();
+    d["reason"] = k.reason;
+    out.append(d);
+  }
+  return out;
+}
+
 py::list cameras_list(const std::vector<PhotoCameraStats>& cameras) {
   py::list out;
   for (const PhotoCameraStats& c : cameras) {
@@ -422,6 +468,7 @@ py::list layers_list(const std::vector<LayerStats>& layers) {
     d["blended"] = l.blended;
     d["mean_alpha"] = l.mean_alpha;
     d["seconds"] = l.seconds;
+    if (l.photos) d["photos_skipped"] = skipped_list(l.skipped);
     out.append(d);
   }
   return out;

@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "texbake/report.h"
 #include "texbake/texbake.h"
 
 namespace texbake::python {
@@ -199,8 +200,26 @@ AtlasOptions atlas_options(const py::handle& uv, const py::handle& size, const p
 
 // ---- Results --------------------------------------------------------------
 
+// counts (every counter by its Stats name), timings, warnings: render's.
 py::dict stats_dict(const Stats& s);
+// A bake's stats: stats_dict with the report's "counts" and "timings" (the
+// names `texbake bake --report` gives the figures: texbake/report.h
+// counts_json, stage_timings_json of `layers`, and the call's "total").
+py::dict bake_stats(const Stats& s, ReportSource source, bool atlas,
+                    const std::vector<LayerStats>& layers = {});
+// An atlas bake's result: the Atlas, whose `stats` are bake_stats, with
+// "atlas" the report's atlas object (its size, samples_per_texel, padding,
+// counts, uv, uv_check or charts ...: atlas_json for `options` at the
+// image's size; its timings are the stats') and "photos_skipped" when
+// `skipped` is given.
+py::object atlas_result(Atlas&& atlas, ReportSource source, const AtlasBakeOptions& options,
+                        const std::vector<SkippedPhoto>* skipped = nullptr,
+                        const std::vector<LayerStats>& layers = {});
 py::list cameras_list(const std::vector<PhotoCameraStats>& cameras);
+// The photos a bake left out (cannot be read): image, path, reason.
+py::list skipped_list(const std::vector<SkippedPhoto>& skipped);
+// Per layer: texture or cameras, in_domain, visible, blended, mean_alpha,
+// seconds, and for a cameras layer photos_skipped (the report's layers).
 py::list layers_list(const std::vector<LayerStats>& layers);
 
 // ---- Shared types -----------------------------------------------------------
@@ -217,9 +236,9 @@ const PyProxy& proxy_arg(const py::handle& obj, const char* name = "proxy");
 
 void bind_mesh(py::module_& m);     // Mesh, read_mesh, read_image
 void bind_proxy(py::module_& m);    // Proxy, make_proxy, fit, map
-void bind_bake(py::module_& m);     // Atlas, bake_vertex, bake_atlas, defaults
+void bind_bake(py::module_& m);     // Atlas, bake_vertex, bake_atlas
 void bind_photos(py::module_& m);   // photo, camera and layers bakes, check_cameras
-void bind_render(py::module_& m);   // render, compare
+void bind_render(py::module_& m);   // render, compare, render_defaults
 void bind_writers(py::module_& m);  // write_vertex_colors, write_atlas, write_image
 void bind_jobs(py::module_& m);     // job_options, run_job, run_batch
 

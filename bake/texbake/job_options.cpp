@@ -171,31 +171,33 @@ struct KeywordOrColor {
   Rgba color{0, 0, 0, 1};
 };
 
-// The settings given, parsed: every option's typed value.
+// The settings given, parsed: every option's typed value. An option not
+// given has the table's default for the job's target (parse_settings), so
+// no default is written here: the values below are placeholders.
 struct Parsed {
   std::map<std::string, std::string, std::less<>> given;  // key -> text (flags: true only)
   std::string mesh, texture, output, report, layers, cameras, images;
   GeometryFlags geometry;
   std::string target;
-  int size = 2048;
-  std::string padding;
-  UvLayout uv = UvLayout::kAuto;
-  AtlasFormat format = AtlasFormat::kPng8;
+  int size = 0;
+  std::string padding;  // "": its default in words (8 at 2048, scaled; parse_padding)
+  UvLayout uv{};
+  AtlasFormat format{};
   bool ascii = false;
-  VertexFilter filter = VertexFilter::kArea;
-  std::optional<int> samples;
-  Visibility visibility = Visibility::kFirst;
-  KeywordOrColor occluded{"fill"};
-  KeywordOrColor outside{"clamp"};
-  std::optional<WrapMode> wrap;
+  VertexFilter filter{};
+  int samples = 0;
+  Visibility visibility{};
+  KeywordOrColor occluded;
+  KeywordOrColor outside;
+  WrapMode wrap{};
   bool linear = false;
-  TextureColorSpace texture_colorspace = TextureColorSpace::kAuto;
-  std::size_t cache_mb = kDefaultCacheMb;
-  PhotoBlend blend = PhotoBlend::kSoft;
-  std::optional<ExposureMode> exposure;
+  TextureColorSpace texture_colorspace{};
+  std::size_t cache_mb = 0;
+  PhotoBlend blend{};
+  ExposureMode exposure{};
   bool strict_photos = false;
   bool no_alignment_check = false;
-  int threads = 0;
+  int threads = 0;  // its default in words: all cores (0)
 
   bool has(std::string_view key) const { return given.find(key) != given.end(); }
 };
@@ -226,14 +228,6 @@ Status set_choice(std::string_view text, const std::string& flag, E& out) {
   Expected<E> v = parse_choice<E>(text, flag);
   if (!v) return v.error();
   out = *v;
-  return ok_status();
-}
-
-template <class E>
-Status set_choice(std::string_view text, const std::string& flag, std::optional<E>& out) {
-  E v{};
-  if (Status s = set_choice(text, flag, v); !s) return s;
-  out = v;
   return ok_status();
 }
 
@@ -316,9 +310,31 @@ Error unknown_key(std::string_view key) {
   return usage("key '" + std::string(key) + "' " + why);
 }
 
+// "V (vertex), W (atlas)": the text for `target`; any other text as it is.
+std::string_view default_for(std::string_view text, JobTarget target) {
+  constexpr std::string_view kVertex = " (vertex), ", kAtlas = " (atlas)";
+  const std::size_t v = text.find(kVertex);
+  if (v == std::string_view::npos || !text.ends_with(kAtlas)) return text;
+  if (target == JobTarget::kVertex) return text.substr(0, v);
+  const std::size_t w = v + kVertex.size();
+  return text.substr(w, text.size() - kAtlas.size() - w);
+}
+
+// Whether `text` is a value of `o` (not words that describe its default).
+bool is_value(const JobOption& o, std::string_view text) {
+  if (text.empty() || o.type == T::kPath) return false;
+  if (o.type == T::kFlag) return text == "false";
+  if (o.key == "padding") return static_cast<bool>(parse_padding(std::string(text)));
+  Parsed scratch;
+  return static_cast<bool>(parse_option(o, std::string(text), scratch));
+}
+
 // The settings, each checked and parsed, in the table's order (as the
 // command line parses its flags), so the first bad value reported does not
-// depend on the order they were given in.
+// depend on the order they were given in; an option not given takes the
+// table's default for the job's target (none while the target is unknown:
+// make_job reports that). --up's is the proxy schema's, as a geometry flag
+// given is more than its value (mapping/proxy_schema.h).
 Expected<Parsed> parse_settings(std::span<const JobSetting> settings) {
   Parsed p;
   for (const JobSetting& s : settings) {
@@ -331,10 +347,23 @@ Expected<Parsed> parse_settings(std::span<const JobSetting> settings) {
     if (o->type == T::kFlag && s.value == "false") continue;  // not given
     p.given.emplace(s.key, s.value);
   }
+  const auto given_text = [&p](std::string_view key) {
+    const auto it = p.given.find(key);
+    return it == p.given.end() ? std::string() : it->second;
+  };
+  const Expected<JobTarget> target = job_target(given_text("target"), given_text("output"));
   for (const JobOption& o : job_options()) {
     const auto it = p.given.find(o.key);
-    if (it == p.given.end()) continue;
-    if (Status s = parse_option(o, it->second, p); !s) return s.error();
+    std::string text;
+    if (it != p.given.end()) {
+      text = it->second;
+    } else if (target && o.type != T::kFlag && o.key != "up") {
+      text = job_option_default(o, *target);
+      if (text.empty()) continue;
+    } else {
+      continue;
+    }
+    if (Status s = parse_option(o, text, p); !s) return s.error();
   }
   return p;
 }
@@ -448,7 +477,7 @@ Status check_uv_not_proxy(const Parsed& p, Kind kind) {
 VertexBakeOptions shading_options(const Parsed& p) {
   VertexBakeOptions options;
   options.filter = p.filter;
-  options.samples = p.samples.value_or(16);
+  options.samples = p.samples;
   options.visibility = p.visibility;
   if (p.occluded.keyword == "fill") {
     options.occluded = OccludedMode::kFill;
@@ -465,7 +494,7 @@ VertexBakeOptions shading_options(const Parsed& p) {
     options.outside_color = p.outside.color;
   }
   options.linear = p.linear;
-  options.plane_wrap = p.wrap.value_or(WrapMode::kClamp);
+  options.plane_wrap = p.wrap;
   return options;
 }
 
@@ -484,7 +513,7 @@ Expected<AtlasOptions> atlas_options(const Parsed& p, const VertexBakeOptions& s
   AtlasBakeOptions& o = options.bake;
   o.shading = shading;
   o.size = p.size;
-  o.samples = p.samples.value_or(4);
+  o.samples = p.samples;
   o.padding = kPaddingDefault;  // until --padding is parsed, after the other checks
   if (Status s = validate_options(options); !s) return s.error();
   Expected<int> padding = parse_padding(p.padding);
@@ -527,7 +556,7 @@ Expected<Job> photos_job(const Parsed& p, bool atlas, const CameraProjector* cam
   Job job = base_job(p, atlas);
   PhotoBakeOptions& options = job.photo_options;
   options.blend = p.blend;
-  options.exposure = p.exposure.value_or(ExposureMode::kGain);
+  options.exposure = p.exposure;
   options.strict_photos = p.strict_photos;
   if (camera) {
     job.proxy_file = *p.geometry.proxy_file;
@@ -540,7 +569,7 @@ Expected<Job> photos_job(const Parsed& p, bool atlas, const CameraProjector* cam
     job.cameras = p.cameras;
     job.images = p.images;
     job.alignment_check = !p.no_alignment_check;
-    if (p.has("texture_colorspace")) options.color_space = p.texture_colorspace;
+    options.color_space = p.texture_colorspace;
   }
   set_occluded(p, options);
   if (atlas) {
@@ -588,7 +617,7 @@ GeometryFlags proxy_geometry(const GeometryFlags& flags, const fs::path& output)
 }
 
 Status check_wrap(const Parsed& p, std::optional<ProxyKind> kind) {
-  if (p.wrap && kind && *kind != ProxyKind::kPlane) {
+  if (p.has("wrap") && kind && *kind != ProxyKind::kPlane) {
     return usage("--wrap applies to the plane proxy only (the others' wrap is fixed)");
   }
   return ok_status();
@@ -674,6 +703,11 @@ Expected<Job> make_job(const Parsed& p) {
 std::span<const JobOption> job_options() {
   static const std::vector<JobOption> table = make_table();
   return table;
+}
+
+std::string job_option_default(const JobOption& option, JobTarget target) {
+  const std::string_view text = default_for(option.default_text, target);
+  return is_value(option, text) ? std::string(text) : std::string();
 }
 
 const JobOption* find_job_option(std::string_view key) {

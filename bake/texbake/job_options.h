@@ -69,11 +69,18 @@ struct JobOption {
   std::string_view flag;        // "--u-axis": the command line's long flag
   std::string_view short_flag;  // "-o" or ""
   JobOptionType type;
-  std::string_view value_name;    // the value in --help: "N", "X,Y,Z", "" for a flag
-  std::string_view default_text;  // "" when there is none (or the option is required)
-  std::string_view range;         // "1 .. 65536", "bilinear|area|ewa", ""
-  unsigned bakes;                 // the bakes it applies to (texbake::bakes)
-  std::string_view help;          // the command line's --help text
+  std::string_view value_name;  // the value in --help: "N", "X,Y,Z", "" for a flag
+  // The value the option takes when it is not given, as the command line
+  // would take it ("2048", "area", "fill"; a flag's is "false"), or
+  // "V (vertex), W (atlas)" when the targets' differ: the one default of the
+  // command line, a batch line and Python (job_option_default). Words that
+  // are not a value of the option ("by the output", "fitted to the mesh",
+  // "all cores") say how the job works the default out; "" when there is
+  // none (or the option is required).
+  std::string_view default_text;
+  std::string_view range;  // "1 .. 65536", "bilinear|area|ewa", ""
+  unsigned bakes;          // the bakes it applies to (texbake::bakes)
+  std::string_view help;   // the command line's --help text
   // Why it does not apply to the bakes outside `bakes`, when that needs
   // saying ("" for the bake's own reason).
   std::string_view not_here = "";
@@ -87,6 +94,13 @@ std::span<const JobOption> job_options();
 
 // The option with this key, or nullptr.
 const JobOption* find_job_option(std::string_view key);
+
+// The default of `option` for a bake of `target` as the command line would
+// take the value ("16", "bilinear", "false"), from its default_text; ""
+// when the default is worked out by the job (a default_text in words, or
+// a path's) or there is none. A job that does not give the option takes
+// this value (job_from_settings), as Python's calls do.
+std::string job_option_default(const JobOption& option, JobTarget target);
 
 // One option's value as text, as the command line takes it ("8", "1,0,0",
 // "sphere"; a flag "true" or "false").

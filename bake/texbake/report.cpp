@@ -73,6 +73,83 @@ ordered_json atlas_json(const AtlasReport& a, const Stats& stats, double write) 
   return j;
 }
 
+ordered_json counts_json(ReportSource source, bool atlas, const Counts& c) {
+  ordered_json j = {{"vertices", c.vertices}, {"triangles", c.triangles}};
+  if (source == ReportSource::kProxy) {
+    j["degenerate_skipped"] = c.degenerate_triangles;
+    j["unreferenced_vertices"] = c.unreferenced_vertices;
+    if (atlas) j["texels"] = c.texels;
+    j["samples"] = c.samples;
+    j["occluded"] = c.occluded;
+    j["undefined"] = c.undefined;
+    j["outside"] = c.outside;
+    if (atlas) {
+      j["padded"] = c.padded;
+    } else {
+      j["filled"] = c.filled;
+      j["unfilled"] = c.unfilled;
+    }
+  } else if (source == ReportSource::kPhotos && !atlas) {
+    j["camera_samples"] = c.samples;
+    j["unseen"] = c.occluded;
+    j["filled"] = c.filled;
+    j["unfilled"] = c.unfilled;
+  } else if (source == ReportSource::kPhotos) {
+    j["texels"] = c.texels;
+    j["samples"] = c.samples;
+    j["unseen"] = c.occluded;
+    j["filled"] = c.filled;
+    j["unfilled_vertices"] = c.unfilled;
+    j["padded"] = c.padded;
+  } else if (!atlas) {
+    j["uncovered"] = c.occluded;
+    j["filled"] = c.filled;
+  } else {
+    j["texels"] = c.texels;
+    j["samples"] = c.samples;
+    j["uncovered"] = c.occluded;
+    j["padded"] = c.padded;
+  }
+  return j;
+}
+
+ordered_json stage_timings_json(ReportSource source, bool atlas, const Timings& t,
+                                const std::vector<LayerStats>& layers) {
+  ordered_json per_layer = ordered_json::array();
+  for (const LayerStats& s : layers) per_layer.push_back(s.seconds);
+  ordered_json j = ordered_json::object();
+  if (atlas) {
+    j["uv_layout"] = t.uv_layout;
+    if (source != ReportSource::kLayers) j["rasterize"] = t.rasterize;
+    if (source == ReportSource::kPhotos) j["vertex_photos"] = t.fill;
+    if (source == ReportSource::kLayers) j["fill"] = t.fill;
+  }
+  j["scene_build"] = t.scene_build;
+  const char* bake = source == ReportSource::kPhotos   ? "photos"
+                     : source == ReportSource::kLayers ? "layers"
+                     : atlas                           ? "sample"
+                                                       : "bake";
+  j[bake] = t.bake;
+  if (source == ReportSource::kLayers) j["per_layer"] = per_layer;
+  if (atlas && source == ReportSource::kProxy) j["fill"] = t.fill;
+  if (atlas) j["pad"] = t.pad;
+  if (!atlas) j["fill"] = t.fill;
+  return j;
+}
+
+namespace {
+
+// A job's report timings: `first` (load, fit), the stages, write, total.
+ordered_json job_timings(ordered_json first, const ordered_json& stages, double write,
+                         double total) {
+  for (const auto& [key, value] : stages.items()) first[key] = value;
+  first["write"] = write;
+  first["total"] = total;
+  return first;
+}
+
+}  // namespace
+
 std::string report_json(const BakeReport& r) {
   ordered_json j;
   j["command"] = "bake";
@@ -115,40 +192,11 @@ std::string report_json(const BakeReport& r) {
   o["threads"] = r.threads;
   j["proxy"] = proxy_json(r.proxy);
   j["proxy_fitted"] = r.fitted_flags;
-  ordered_json& c = j["counts"];
-  c["vertices"] = counts.vertices;
-  c["triangles"] = counts.triangles;
-  c["degenerate_skipped"] = counts.degenerate_triangles;
-  c["unreferenced_vertices"] = counts.unreferenced_vertices;
-  if (atlas) c["texels"] = counts.texels;
-  c["samples"] = counts.samples;
-  c["occluded"] = counts.occluded;
-  c["undefined"] = counts.undefined;
-  c["outside"] = counts.outside;
-  if (atlas) {
-    c["padded"] = counts.padded;
-    j["atlas"] = atlas_json(*r.atlas, r.stats, r.write);
-  } else {
-    c["filled"] = counts.filled;
-    c["unfilled"] = counts.unfilled;
-  }
-  ordered_json& t = j["timings"];
-  t["load"] = r.load;
-  t["fit"] = r.fit;
-  if (atlas) {
-    t["uv_layout"] = timings.uv_layout;
-    t["rasterize"] = timings.rasterize;
-    t["scene_build"] = timings.scene_build;
-    t["sample"] = timings.bake;
-    t["fill"] = timings.fill;
-    t["pad"] = timings.pad;
-  } else {
-    t["scene_build"] = timings.scene_build;
-    t["bake"] = timings.bake;
-    t["fill"] = timings.fill;
-  }
-  t["write"] = r.write;
-  t["total"] = r.total;
+  j["counts"] = counts_json(ReportSource::kProxy, atlas, counts);
+  if (atlas) j["atlas"] = atlas_json(*r.atlas, r.stats, r.write);
+  j["timings"] =
+      job_timings({{"load", r.load}, {"fit", r.fit}},
+                  stage_timings_json(ReportSource::kProxy, atlas, timings, {}), r.write, r.total);
   return j.dump(2) + "\n";
 }
 
@@ -216,7 +264,7 @@ nlohmann::ordered_json photo_inputs(const Job& job) {
 }
 
 // One entry per layer: its texture (or cameras), in_domain, visible, blended
-// (vertices or atlas samples), mean alpha (timings: per_layer_seconds).
+// (vertices or atlas samples), mean alpha (timings: per_layer).
 nlohmann::ordered_json layers_json(const std::vector<LayerStats>& stats) {
   nlohmann::ordered_json layers = nlohmann::ordered_json::array();
   for (const LayerStats& s : stats) {
@@ -228,13 +276,6 @@ nlohmann::ordered_json layers_json(const std::vector<LayerStats>& stats) {
     if (s.photos) layers.back()["photos_skipped"] = skipped_photos_json(s.skipped);
   }
   return layers;
-}
-
-// Seconds per layer (LayerStats::seconds), for the report's timings.
-nlohmann::ordered_json per_layer_seconds(const std::vector<LayerStats>& stats) {
-  nlohmann::ordered_json out = nlohmann::ordered_json::array();
-  for (const LayerStats& s : stats) out.push_back(s.seconds);
-  return out;
 }
 
 }  // namespace
@@ -257,29 +298,14 @@ std::string photo_atlas_report(const Job& job, const PhotoAtlas& baked, double l
   j["target"] = "atlas";
   j["inputs"] = photo_inputs(job);
   const Stats& st = baked.atlas.stats;
-  const Counts& c = st.counts;
-  j["counts"] = {{"vertices", c.vertices},
-                 {"triangles", c.triangles},
-                 {"texels", c.texels},
-                 {"samples", c.samples},
-                 {"unseen", c.occluded},
-                 {"filled", c.filled},
-                 {"unfilled_vertices", c.unfilled},
-                 {"padded", c.padded}};
+  j["counts"] = counts_json(ReportSource::kPhotos, /*atlas=*/true, st.counts);
   j["atlas"] = atlas_json(AtlasReport{job.atlas.bake, baked.atlas.uv}, st, write);
   j["cameras"] = cameras_json(baked.cameras);
   j["photo_agreement"] = consistency_json(baked.consistency);
   j["photos_skipped"] = skipped_photos_json(baked.skipped);
-  const Timings& t = st.timings;
-  j["timings"] = {{"load", load},
-                  {"uv_layout", t.uv_layout},
-                  {"rasterize", t.rasterize},
-                  {"vertex_photos", t.fill},
-                  {"scene_build", t.scene_build},
-                  {"photos", t.bake},
-                  {"pad", t.pad},
-                  {"write", write},
-                  {"total", total}};
+  j["timings"] =
+      job_timings({{"load", load}}, stage_timings_json(ReportSource::kPhotos, true, st.timings, {}),
+                  write, total);
   return j.dump(2) + "\n";
 }
 
@@ -290,17 +316,13 @@ std::string photo_report(const Job& job, const PhotoColors& baked, double load, 
   j["command"] = "bake";
   j["target"] = "vertex";
   j["inputs"] = photo_inputs(job);
-  const Counts& c = baked.stats.counts;
-  j["counts"] = {{"vertices", c.vertices},      {"triangles", c.triangles},
-                 {"camera_samples", c.samples}, {"unseen", c.occluded},
-                 {"filled", c.filled},          {"unfilled", c.unfilled}};
+  j["counts"] = counts_json(ReportSource::kPhotos, /*atlas=*/false, baked.stats.counts);
   j["cameras"] = cameras_json(baked.cameras);
   j["photo_agreement"] = consistency_json(baked.consistency);
   j["photos_skipped"] = skipped_photos_json(baked.skipped);
-  const Timings& t = baked.stats.timings;
-  j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
-                  {"photos", t.bake}, {"fill", t.fill},
-                  {"write", write},   {"total", total}};
+  j["timings"] = job_timings(
+      {{"load", load}}, stage_timings_json(ReportSource::kPhotos, false, baked.stats.timings, {}),
+      write, total);
   return j.dump(2) + "\n";
 }
 
@@ -317,19 +339,14 @@ std::string layers_atlas_report(const Job& job, const LayerAtlas& baked, double 
                  {"output", job.output.string()},
                  {"options", {{"threads", job.threads}}}};
   const Stats& st = baked.atlas.stats;
-  const Counts& c = st.counts;
-  j["counts"] = {{"vertices", c.vertices}, {"triangles", c.triangles}, {"texels", c.texels},
-                 {"samples", c.samples},   {"uncovered", c.occluded},  {"padded", c.padded}};
+  j["counts"] = counts_json(ReportSource::kLayers, /*atlas=*/true, st.counts);
   AtlasBakeOptions options = job.atlas.bake;
   options.size = baked.atlas.image.width;
   j["atlas"] = atlas_json(AtlasReport{options, baked.atlas.uv}, st, write);
   j["layers"] = layers_json(baked.layers);
-  const Timings& t = st.timings;
-  j["timings"] = {{"load", load},     {"uv_layout", t.uv_layout},
-                  {"fill", t.fill},   {"scene_build", t.scene_build},
-                  {"layers", t.bake}, {"per_layer", per_layer_seconds(baked.layers)},
-                  {"pad", t.pad},     {"write", write},
-                  {"total", total}};
+  j["timings"] = job_timings(
+      {{"load", load}}, stage_timings_json(ReportSource::kLayers, true, st.timings, baked.layers),
+      write, total);
   return j.dump(2) + "\n";
 }
 
@@ -343,17 +360,12 @@ std::string layers_report(const Job& job, const LayerColors& baked, double load,
                  {"layers", job.layers.string()},
                  {"output", job.output.string()},
                  {"options", {{"threads", job.threads}}}};
-  const Counts& c = baked.stats.counts;
-  j["counts"] = {{"vertices", c.vertices},
-                 {"triangles", c.triangles},
-                 {"uncovered", c.occluded},
-                 {"filled", c.filled}};
+  j["counts"] = counts_json(ReportSource::kLayers, /*atlas=*/false, baked.stats.counts);
   j["layers"] = layers_json(baked.layers);
-  const Timings& t = baked.stats.timings;
-  j["timings"] = {{"load", load},     {"scene_build", t.scene_build},
-                  {"layers", t.bake}, {"per_layer", per_layer_seconds(baked.layers)},
-                  {"fill", t.fill},   {"write", write},
-                  {"total", total}};
+  j["timings"] = job_timings(
+      {{"load", load}},
+      stage_timings_json(ReportSource::kLayers, false, baked.stats.timings, baked.layers), write,
+      total);
   return j.dump(2) + "\n";
 }
 

@@ -87,6 +87,25 @@ Status write_report(const std::filesystem::path& path, const BakeReport& report)
 // The same for a report's text made elsewhere (the photo and layers bakes).
 Status write_report_text(const std::filesystem::path& path, const std::string& text);
 
+// The report's "counts" of a bake of `source` (a camera proxy file's bake
+// is a photos bake) for either target, by the names the report gives them
+// (Python's stats["counts"] use the same): a proxy bake's vertices,
+// triangles, degenerate_skipped, unreferenced_vertices, (texels,) samples,
+// occluded, undefined, outside, then filled and unfilled or padded; a
+// photos bake's unseen, camera_samples (vertex) or samples (atlas), ...; a
+// layers bake's uncovered, ...
+enum class ReportSource { kProxy, kPhotos, kLayers };
+nlohmann::ordered_json counts_json(ReportSource source, bool atlas, const Counts& counts);
+
+// The report's "timings" of the bake's own stages (seconds), by the names
+// the report gives them, without the job's load, fit, write and total
+// (Python's stats["timings"] use the same): scene_build, bake (a proxy
+// vertex bake), sample (a proxy atlas), photos, layers and per_layer (one
+// per layer, `layers`), fill, and for an atlas uv_layout, rasterize,
+// vertex_photos (a photo atlas's fill), pad.
+nlohmann::ordered_json stage_timings_json(ReportSource source, bool atlas, const Timings& timings,
+                                          const std::vector<LayerStats>& layers);
+
 // The photo bakes' reports (vertex, atlas: inputs, counts, the atlas
 // object, one entry per camera, the photos left out, timings) and the
 // layers bakes' (one entry per layer), as JSON text; times in seconds.

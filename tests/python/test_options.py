@@ -202,20 +202,3 @@ def test_nonfinite_texels_read_as_zero_with_the_cli_warning(bunny, sphere):
     # A uint8 image has no NaN; a float64 one is converted, NaN included.
     with pytest.warns(RuntimeWarning, match="texture: 3 NaN"):
         texbake.render(bunny, texture=image.astype(np.float64), proxy=sphere, size=(8, 8))
-
-
-def test_defaults_are_the_library_structs():
-    """texbake.DEFAULTS (the signatures' defaults) against SPEC section 4/5's
-    documented defaults of the CLI."""
-    d = texbake.DEFAULTS
-    assert d["vertex"] == {"filter": "area", "samples": 16, "visibility": "first",
-                           "occluded": "fill", "outside": "clamp", "linear": False,
-                           "wrap": "clamp", "cache_mb": 1024}
-    assert d["atlas"] == {"uv": "auto", "size": 2048, "samples": 4, "padding": None}
-    assert d["photos"] == {"blend": "soft", "exposure": "gain", "occluded": "fill",
-                           "colorspace": "auto"}
-    assert d["render"]["size"] == (512, 512) and d["render"]["views"] == 1
-    assert d["render"]["samples"] == 4 and d["render"]["view"] == (0, 20)
-    import inspect
-    sig = inspect.signature(texbake.bake_atlas_from_photos)
-    assert sig.parameters["size"].default == 2048 and sig.parameters["blend"].default == "soft"

@@ -37,8 +37,10 @@ the first bad row); NaN or infinite values of an image (an array or a
 file) are read as 0 with a RuntimeWarning naming it and the count, as the
 command line warns for a texture.
 
-Every default is the command line's, read from the library's option
-structs (texbake.DEFAULTS).
+Every default of a bake's option is the command line's and a batch line's,
+read from the library's one table of job options (texbake.JOB_OPTIONS,
+viewed by call group as texbake.DEFAULTS); render's and compare's are
+their commands' (the library's option structs).
 
 Long calls release the GIL. `progress(stage, fraction)`, when given, is
 called with the GIL held, never concurrently with itself; returning False
@@ -54,12 +56,6 @@ from . import _texbake
 from ._texbake import Atlas, Cancelled, Mesh  # noqa: F401
 
 __version__ = _texbake.version()
-
-#: The defaults of every call's options, by group (vertex, atlas, photos,
-#: layers, render, compare): the library's option structs' defaults, which
-#: are the command line's.
-DEFAULTS = _texbake.defaults()
-_V, _A, _P, _L, _R = (DEFAULTS[k] for k in ("vertex", "atlas", "photos", "layers", "render"))
 
 __all__ = [
     "ImageArray",
@@ -79,6 +75,69 @@ __all__ = [
 #: "default", "range", "bakes" (where it applies: "proxy vertex", "photos
 #: atlas", ...) and "help".
 JOB_OPTIONS = tuple(_texbake.job_options())
+
+_OPTIONS = {o["key"]: o for o in JOB_OPTIONS}
+
+
+def _option_value(option, text):
+    """A job option's value as the command line takes it ("16", "1,0,0",
+    "false") as the Python value a call takes (16, (1.0, 0.0, 0.0), False);
+    None stays None."""
+    if text is None:
+        return None
+    kind = option["type"]
+    if kind == "flag":
+        return text == "true"
+    if kind == "integer" or (kind == "text" and text.isdigit()):
+        return int(text)
+    if kind == "number":
+        return float(text)
+    if kind in ("vec3", "text") and "," in text:
+        return tuple(float(x) for x in text.split(","))
+    return text
+
+
+def _default(key, target="vertex"):
+    """The table's default of job option `key` for a bake of `target`, as a
+    Python value; None when the job works it out (padding: 8 at 2048,
+    scaled with size)."""
+    option = _OPTIONS[key]
+    return _option_value(option, option["defaults"][target])
+
+
+def _defaults(target, *keys, **renamed):
+    d = {k: _default(k, target) for k in keys}
+    d.update({name: _default(key, target) for name, key in renamed.items()})
+    return d
+
+
+_SHADING = ("filter", "samples", "visibility", "occluded", "outside", "linear", "wrap",
+            "cache_mb")
+
+#: The defaults of every call's options, by group: vertex (bake_vertex),
+#: atlas (bake_atlas and every atlas bake), photos (the photo and camera
+#: bakes; colorspace is the table's texture_colorspace), layers: a view of
+#: JOB_OPTIONS' defaults (the command line's and a batch line's); render and
+#: compare: those commands' defaults (the library's option structs).
+DEFAULTS = {
+    "vertex": _defaults("vertex", *_SHADING),
+    "atlas": _defaults("atlas", "uv", "size", "samples", "padding", *_SHADING),
+    "photos": _defaults("vertex", "blend", "exposure", "occluded",
+                        colorspace="texture_colorspace"),
+    "layers": _defaults("vertex", "occluded", "cache_mb"),
+    **_texbake.render_defaults(),
+}
+_R = DEFAULTS["render"]
+
+
+def _v(key):
+    """The table's default of `key` for a vertex bake."""
+    return _default(key, "vertex")
+
+
+def _a(key):
+    """The table's default of `key` for an atlas bake."""
+    return _default(key, "atlas")
 
 #: Names of the codes in map()'s `status` array: 0 ok, 1 outside (beyond the
 #: proxy's (u, v) domain; uv unclamped), 2 undefined (no mapping).
@@ -278,9 +337,9 @@ def map(proxy, points):  # noqa: A001 (the command's name)
 
 # ---- Bakes -----------------------------------------------------------------
 
-def bake_vertex(*mesh_image_proxy, filter=_V["filter"], samples=_V["samples"],
-                visibility=_V["visibility"], occluded=_V["occluded"], outside=_V["outside"],
-                linear=_V["linear"], wrap=_V["wrap"], cache_mb=_V["cache_mb"], threads=0,
+def bake_vertex(*mesh_image_proxy, filter=_v("filter"), samples=_v("samples"),
+                visibility=_v("visibility"), occluded=_v("occluded"), outside=_v("outside"),
+                linear=_v("linear"), wrap=_v("wrap"), cache_mb=_v("cache_mb"), threads=0,
                 progress=None):
     """bake_vertex(mesh, image, proxy, ...) or bake_vertex(vertices, faces, image, proxy, ...):
     one colour per vertex (`texbake bake ... --target vertex`).
@@ -295,17 +354,23 @@ def bake_vertex(*mesh_image_proxy, filter=_V["filter"], samples=_V["samples"],
     'clamp' | (r, g, b[, a]), linear, wrap 'clamp' | 'repeat' (plane only),
     cache_mb 1..16777216. Bad values raise ValueError with the CLI's message.
     Returns (colors (n, 4) float32 in the input's vertex order, stats dict:
-    counts, timings in seconds, warnings). Progress stages: 'bake', 'fill'.
+    counts, timings in seconds, warnings). The counts are the CLI's --report
+    "counts" for the same job, by the same names (vertices, triangles,
+    degenerate_skipped, ..., occluded, filled, unfilled), the timings its
+    stages' (scene_build, bake, fill) and the call's total; so are every
+    bake's, and an atlas's stats["atlas"] is the report's "atlas" object
+    (uv, size, samples_per_texel, padding, counts, ...) less its timings.
+    Progress stages: 'bake', 'fill'.
     """
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_vertex")
     return _texbake.bake_vertex(mesh, image, proxy, filter, samples, visibility,
                                 occluded, outside, linear, wrap, cache_mb, threads, progress)
 
 
-def bake_vertex_from_photos(*mesh, cameras, images=None, blend=_P["blend"],
-                            exposure=_P["exposure"], occluded=_P["occluded"],
-                            colorspace=_P["colorspace"], strict_photos=False, threads=0,
-                            progress=None):
+def bake_vertex_from_photos(*mesh, cameras, images=None, blend=_v("blend"),
+                            exposure=_v("exposure"), occluded=_v("occluded"),
+                            colorspace=_v("texture_colorspace"),
+                            strict_photos=_v("strict_photos"), threads=0, progress=None):
     """bake_vertex_from_photos(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
     one colour per vertex from calibrated photographs (`texbake bake MESH --cameras PATH`).
 
@@ -317,16 +382,17 @@ def bake_vertex_from_photos(*mesh, cameras, images=None, blend=_P["blend"],
     be read is left out, named in stats['warnings'] and listed in
     stats['photos_skipped'] (dicts with image, path, reason); strict_photos=True
     makes it an error (OSError), as --strict-photos; no readable photo is an
-    error. Returns (colors (n, 4) float32, stats dict, cameras: a list of
-    dicts per photo used with image, photo (w, h), in_view, visible,
-    weight_share, gain (r, g, b)). Progress stage: 'photos'.
+    error. Returns (colors (n, 4) float32, stats dict (counts as the report's:
+    camera_samples, unseen, ...), cameras: a list of dicts per photo used
+    with image, photo (w, h), in_view, visible, weight_share, gain (r, g,
+    b)). Progress stage: 'photos'.
     """
     mesh = _mesh(mesh, 0, "bake_vertex_from_photos")[0]
     return _texbake.bake_vertex_from_photos(mesh, cameras, images, blend, exposure, occluded,
                                             colorspace, bool(strict_photos), threads, progress)
 
 
-def bake_vertex_from_layers(*mesh, layers, occluded=_L["occluded"], cache_mb=_L["cache_mb"],
+def bake_vertex_from_layers(*mesh, layers, occluded=_v("occluded"), cache_mb=_v("cache_mb"),
                             threads=0, progress=None):
     """bake_vertex_from_layers(mesh, layers=PATH, ...) or (vertices, faces, layers=PATH, ...):
     one colour per vertex composited from a layers file (`texbake bake MESH
@@ -336,25 +402,28 @@ def bake_vertex_from_layers(*mesh, layers, occluded=_L["occluded"], cache_mb=_L[
     occluded 'fill' | (r, g, b[, a]): vertices no layer and no base colour
     cover (their alpha stays 0); cache_mb: the memory budget for each layer's
     texture and mask (--cache-mb). Returns (colors (n, 4) float32, sRGB-encoded,
-    alpha = coverage; stats dict; layers: a list of dicts per layer with
-    texture (or cameras), in_domain, visible, blended, mean_alpha, seconds).
-    Progress stage: 'layers'.
+    alpha = coverage; stats dict (counts as the report's: uncovered, ...);
+    layers: a list of dicts per layer with texture (or cameras), in_domain,
+    visible, blended, mean_alpha, seconds, and for a cameras layer
+    photos_skipped, as bake_vertex_from_photos'). Progress stage: 'layers'.
     """
     mesh = _mesh(mesh, 0, "bake_vertex_from_layers")[0]
     return _texbake.bake_vertex_from_layers(mesh, layers, occluded, cache_mb, threads, progress)
 
 
-def bake_atlas(*mesh_image_proxy, uv=_A["uv"], size=_A["size"], samples=_A["samples"],
-               padding=_A["padding"], visibility=_V["visibility"], occluded=_V["occluded"],
-               outside=_V["outside"], linear=_V["linear"], wrap=_V["wrap"],
-               cache_mb=_V["cache_mb"], threads=0, progress=None):
+def bake_atlas(*mesh_image_proxy, uv=_a("uv"), size=_a("size"), samples=_a("samples"),
+               padding=_a("padding"), filter=_a("filter"), visibility=_a("visibility"),
+               occluded=_a("occluded"), outside=_a("outside"), linear=_a("linear"),
+               wrap=_a("wrap"), cache_mb=_a("cache_mb"), threads=0, progress=None):
     """bake_atlas(mesh, image, proxy, ...) or bake_atlas(vertices, faces, image, proxy, ...):
     a texture atlas (`texbake bake ... --target atlas`).
 
     uv 'auto' | 'mesh' | 'generate' | 'proxy'; size N (1..16384); samples
     per texel (1..256); padding None (8 at 2048, scaled), a count, or 'inf';
-    the image (an array or a path, with cache_mb) and the shading options as
-    bake_vertex's. Returns a texbake.Atlas: `image`
+    filter 'bilinear' | 'ewa' (each supersample filtered by its footprint;
+    'area' is the vertex bake's); the image (an array or a path, with
+    cache_mb) and the other shading options as bake_vertex's (an atlas's
+    defaults: DEFAULTS["atlas"]). Returns a texbake.Atlas: `image`
     (N, N, 4) float32, `mesh` (the mesh with the per-corner UVs baked
     against: its `uvs` and `corner_uvs`), `uvs`/`face_uvs` of that mesh,
     `stats`, `uv_layout`, `repeat_u`; it unpacks as
@@ -362,16 +431,16 @@ def bake_atlas(*mesh_image_proxy, uv=_A["uv"], size=_A["size"], samples=_A["samp
     Progress stages: 'uv_layout', 'sample'.
     """
     mesh, image, proxy = _mesh(mesh_image_proxy, 2, "bake_atlas")
-    return _texbake.bake_atlas(mesh, image, proxy, uv, size, samples, padding,
+    return _texbake.bake_atlas(mesh, image, proxy, uv, size, samples, padding, filter,
                                visibility, occluded, outside, linear, wrap, cache_mb, threads,
                                progress)
 
 
-def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_P["blend"],
-                           exposure=_P["exposure"], occluded=_P["occluded"],
-                           colorspace=_P["colorspace"], uv=_A["uv"], size=_A["size"],
-                           samples=_A["samples"], padding=_A["padding"], strict_photos=False,
-                           threads=0, progress=None):
+def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_a("blend"),
+                           exposure=_a("exposure"), occluded=_a("occluded"),
+                           colorspace=_a("texture_colorspace"), uv=_a("uv"), size=_a("size"),
+                           samples=_a("samples"), padding=_a("padding"),
+                           strict_photos=_a("strict_photos"), threads=0, progress=None):
     """bake_atlas_from_photos(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
     a texture atlas from calibrated photographs (`texbake bake MESH --cameras
     PATH -o OUT.obj|.glb`).
@@ -382,7 +451,9 @@ def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_P["blend"],
     from the photos that see it; unseen samples as `occluded` says. Returns
     (atlas, cameras): a texbake.Atlas (write_atlas writes the CLI's bytes)
     and a list of dicts per photo (image, photo (w, h), in_view and visible
-    counting atlas samples, weight_share, gain). Errors: ValueError (bad
+    counting atlas samples, weight_share, gain). atlas.stats has the
+    report's counts and photos_skipped (the photos left out, as
+    bake_vertex_from_photos' stats). Errors: ValueError (bad
     options, uv='proxy', uv='mesh' on a mesh without UVs), OSError (the
     model, a photo, the mesh). Progress stages: 'uv_layout', 'photos'.
     """
@@ -392,8 +463,8 @@ def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_P["blend"],
                                            padding, threads, progress)
 
 
-def bake_vertex_from_camera(*mesh, camera, photo, occluded=_P["occluded"],
-                            colorspace=_P["colorspace"], threads=0, progress=None):
+def bake_vertex_from_camera(*mesh, camera, photo, occluded=_v("occluded"),
+                            colorspace=_v("texture_colorspace"), threads=0, progress=None):
     """bake_vertex_from_camera(mesh, camera=PATH, photo=PATH, ...) or (vertices, faces, ...):
     one colour per vertex from one photo through one calibrated camera given
     as a proxy file (`texbake bake MESH --texture PHOTO --proxy-file CAMERA`,
@@ -412,9 +483,9 @@ def bake_vertex_from_camera(*mesh, camera, photo, occluded=_P["occluded"],
                                             progress)
 
 
-def bake_atlas_from_camera(*mesh, camera, photo, occluded=_P["occluded"],
-                           colorspace=_P["colorspace"], uv=_A["uv"], size=_A["size"],
-                           samples=_A["samples"], padding=_A["padding"], threads=0,
+def bake_atlas_from_camera(*mesh, camera, photo, occluded=_a("occluded"),
+                           colorspace=_a("texture_colorspace"), uv=_a("uv"), size=_a("size"),
+                           samples=_a("samples"), padding=_a("padding"), threads=0,
                            progress=None):
     """bake_atlas_from_camera(mesh, camera=PATH, photo=PATH, ...) or (vertices, faces, ...):
     a texture atlas from one photo through a camera proxy file (`texbake bake
@@ -427,9 +498,9 @@ def bake_atlas_from_camera(*mesh, camera, photo, occluded=_P["occluded"],
                                            samples, padding, threads, progress)
 
 
-def bake_atlas_from_layers(*mesh, layers, occluded=_L["occluded"], uv=_A["uv"], size=None,
-                           samples=_A["samples"], padding=_A["padding"],
-                           cache_mb=_L["cache_mb"], threads=0, progress=None):
+def bake_atlas_from_layers(*mesh, layers, occluded=_a("occluded"), uv=_a("uv"), size=None,
+                           samples=_a("samples"), padding=_a("padding"),
+                           cache_mb=_a("cache_mb"), threads=0, progress=None):
     """bake_atlas_from_layers(mesh, layers=PATH, ...) or (vertices, faces, layers=PATH, ...):
     a texture atlas composited from a layers file (`texbake bake MESH
     --layers PATH -o OUT.obj|.glb`, SPEC section 10).
@@ -441,7 +512,7 @@ def bake_atlas_from_layers(*mesh, layers, occluded=_L["occluded"], uv=_A["uv"], 
     coverage (Atlas.blend when a covered texel is not opaque). Returns
     (atlas, layers): a texbake.Atlas and a list of dicts per layer (texture
     or cameras, in_domain, visible, blended counting atlas samples,
-    mean_alpha, seconds). Errors: ValueError (bad options, uv='proxy', base
+    mean_alpha, seconds; photos_skipped for a cameras layer). Errors: ValueError (bad options, uv='proxy', base
     "mesh" with another layout), OSError (the layers file, an image, the
     mesh). Progress stages: 'layers', 'uv_layout', 'sample'.
     """
@@ -477,7 +548,7 @@ Atlas.__iter__ = _atlas_iter
 
 
 def render(*mesh, colors="auto", texture=None, proxy=None, atlas_image=None,
-           outside=_V["outside"], wrap=_V["wrap"], linear=_V["linear"], size=_R["size"],
+           outside=_v("outside"), wrap=_v("wrap"), linear=_v("linear"), size=_R["size"],
            view=_R["view"], views=_R["views"], shadows=_R["shadows"], samples=_R["samples"],
            up="z", flat=_R["flat"], background=None, threads=0, progress=None):
     """render(mesh, ...) or render(vertices, faces, ...): a Phong-shaded,

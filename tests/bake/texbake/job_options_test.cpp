@@ -168,6 +168,67 @@ TEST(JobFromSettings, PhotosAndLayersJobs) {
   EXPECT_EQ(layers->layers_options.occluded_color, (Rgba{0, 0, 1, 0.5f}));
 }
 
+TEST(JobOptionDefault, TheTablesDefaultsAsValuesPerTarget) {
+  // SPEC sections 4, 5 and 9: the flags' documented defaults.
+  const auto d = [](const char* key, JobTarget t) {
+    return job_option_default(*find_job_option(key), t);
+  };
+  EXPECT_EQ(d("samples", JobTarget::kVertex), "16");
+  EXPECT_EQ(d("samples", JobTarget::kAtlas), "4");
+  EXPECT_EQ(d("filter", JobTarget::kVertex), "area");
+  EXPECT_EQ(d("filter", JobTarget::kAtlas), "bilinear");
+  EXPECT_EQ(d("size", JobTarget::kAtlas), "2048");
+  EXPECT_EQ(d("cache_mb", JobTarget::kVertex), "1024");
+  EXPECT_EQ(d("occluded", JobTarget::kAtlas), "fill");
+  EXPECT_EQ(d("blend", JobTarget::kVertex), "soft");
+  EXPECT_EQ(d("linear", JobTarget::kVertex), "false");
+  // In words: worked out by the job.
+  for (const char* key : {"target", "padding", "threads", "images", "center", "mesh", "proxy"}) {
+    EXPECT_EQ(d(key, JobTarget::kVertex), "") << key;
+    EXPECT_EQ(d(key, JobTarget::kAtlas), "") << key;
+  }
+}
+
+TEST(JobOptionDefault, EveryDefaultIsAValueOrKnownWords) {
+  // A default_text that is meant as a value but does not parse (a typo)
+  // would silently become words: only these options' defaults are words.
+  std::set<std::string> words = {"target", "padding", "threads", "images"};
+  for (const GeometryParam& p : geometry_params()) words.insert(std::string(p.key));
+  for (const JobOption& o : job_options()) {
+    if (o.default_text.empty()) continue;
+    const bool value = !job_option_default(o, JobTarget::kVertex).empty();
+    EXPECT_EQ(value, !job_option_default(o, JobTarget::kAtlas).empty()) << o.key;
+    EXPECT_NE(value, words.count(std::string(o.key)) == 1) << o.key << ": " << o.default_text;
+  }
+}
+
+TEST(JobFromSettings, AnOptionNotGivenTakesTheTablesDefaultForTheTarget) {
+  // Jobs with nothing but their inputs hold the table's defaults for their
+  // target (SPEC sections 4, 5 and 9), for the photos' and the atlas's
+  // options that had no test of their default.
+  Expected<Job> photos = job_from_settings(
+      std::vector<JobSetting>{{"mesh", "m.ply"}, {"cameras", "sparse/0"}, {"output", "o.obj"}});
+  ASSERT_TRUE(photos) << photos.error().message;
+  EXPECT_EQ(photos->atlas.bake.samples, 4);
+  EXPECT_EQ(photos->atlas.bake.size, 2048);
+  EXPECT_EQ(photos->atlas.uv, UvLayout::kAuto);
+  EXPECT_EQ(photos->photo_options.blend, PhotoBlend::kSoft);
+  EXPECT_EQ(photos->photo_options.exposure, ExposureMode::kGain);
+  EXPECT_EQ(photos->photo_options.color_space, TextureColorSpace::kAuto);
+  EXPECT_EQ(photos->photo_options.occluded, OccludedMode::kFill);
+  EXPECT_EQ(photos->cache_mb, kDefaultCacheMb);
+  EXPECT_EQ(photos->write.format, AtlasFormat::kPng8);
+  Expected<Job> atlas = job_from_settings(bunny({{"proxy", "plane"}}, "o.glb"));
+  ASSERT_TRUE(atlas) << atlas.error().message;
+  EXPECT_EQ(atlas->shading.filter, VertexFilter::kBilinear);  // the atlas's default
+  EXPECT_EQ(atlas->shading.plane_wrap, WrapMode::kClamp);
+  EXPECT_EQ(atlas->shading.outside, OutsideMode::kClamp);
+  EXPECT_EQ(atlas->atlas.bake.samples, 4);
+  EXPECT_EQ(atlas->atlas.bake.padding, kPaddingDefault);
+  // --wrap's default is no --wrap: a sphere without it is no error.
+  EXPECT_TRUE(job_from_settings(bunny({{"proxy", "sphere"}}, "o.ply")));
+}
+
 // Each bad set of settings and the start of its message (the command line's).
 TEST(JobFromSettings, RefusalsNameTheFlagAsTheCommandLineDoes) {
   struct Case {
