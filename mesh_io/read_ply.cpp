@@ -361,6 +361,19 @@ Status read_ply_binary(PlyReadState& s, std::string_view bytes, bool swap) {
                                      std::to_string(e.count) +
                                      " records, the file ends in record " + std::to_string(whole));
     }
+    if (is_vertex && !swap && e.properties.size() == 3 &&
+        std::all_of(e.properties.begin(), e.properties.end(),
+                    [](const PlyProperty& q) { return q.type == PlyType::kFloat32; }) &&
+        s.layout.targets == std::vector<VTarget>{VTarget::kX, VTarget::kY, VTarget::kZ}) {
+      // The usual vertex element, x y z as floats in this machine's byte
+      // order: its records are the positions' own bytes (Float3), copied
+      // whole. (The bounds were checked above; the coordinates are checked
+      // for finiteness after reading, as for every format.)
+      static_assert(sizeof(Float3) == 12);
+      std::memcpy(s.mesh.positions.data(), p, e.count * sizeof(Float3));
+      p += e.count * sizeof(Float3);
+      continue;
+    }
     if (is_face && e.properties.size() == 1 && s.face_property == 0 && !swap &&
         e.properties[0].is_list && e.properties[0].count_type == PlyType::kUInt8 &&
         (e.properties[0].type == PlyType::kInt32 || e.properties[0].type == PlyType::kUInt32)) {

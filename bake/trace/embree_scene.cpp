@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -73,8 +74,12 @@ struct EmbreeScene::Impl {
   // Shared with Embree (rtcSetSharedGeometryBuffer): x, y, z per vertex plus one
   // trailing float, because Embree may read the last vertex with a 16-byte load
   // (Embree docs, buffer padding; RenderKit/embree#124).
-  std::vector<float> vertices;
-  std::vector<uint32_t> indices;  // kept to compute geometric normals of hits
+  // Both are written whole by the parallel copies in build(), so they are
+  // allocated without the zero-fill a std::vector would do on one thread
+  // (the pages' first touch, dear on a virtual machine, is then spread over
+  // the threads).
+  std::unique_ptr<float[]> vertices;
+  std::unique_ptr<uint32_t[]> indices;  // kept to compute geometric normals of hits
   double diagonal = 0;
   double max_abs_coordinate = 0;
 
@@ -187,7 +192,8 @@ Expected<EmbreeScene> EmbreeScene::build(const MeshData& mesh, BuildQuality qual
   // Bounding box of the referenced vertices (those of non-degenerate
   // triangles): the scale of ray offsets (SPEC section 3).
   const std::size_t vertex_count = mesh.positions.size();
-  impl->vertices.resize(3 * vertex_count + 1, 0.0f);
+  impl->vertices.reset(new float[3 * vertex_count + 1]);
+  impl->vertices[3 * vertex_count] = 0.0f;
   parallel_for_chunks(vertex_count, 1 << 16, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
       impl->vertices[3 * i + 0] = mesh.positions[i].x;
@@ -200,7 +206,7 @@ Expected<EmbreeScene> EmbreeScene::build(const MeshData& mesh, BuildQuality qual
   // the box does not depend on the thread count).
   constexpr std::size_t kTriangleBlock = 1 << 16;
   const std::size_t triangle_count = mesh.triangles.size();
-  impl->indices.resize(3 * triangle_count);
+  impl->indices.reset(new uint32_t[3 * triangle_count]);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   using Box = std::array<double, 6>;  // lo x, y, z, hi x, y, z
   std::vector<Box> block_box(block_count(triangle_count, kTriangleBlock),
@@ -255,10 +261,9 @@ Expected<EmbreeScene> EmbreeScene::build(const MeshData& mesh, BuildQuality qual
     RTCGeometry geometry = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcSetGeometryBuildQuality(geometry, rtc_quality);
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                               impl->vertices.data(), 0, 3 * sizeof(float), vertex_count);
+                               impl->vertices.get(), 0, 3 * sizeof(float), vertex_count);
     rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                               impl->indices.data(), 0, 3 * sizeof(uint32_t),
-                               mesh.triangles.size());
+                               impl->indices.get(), 0, 3 * sizeof(uint32_t), mesh.triangles.size());
     rtcCommitGeometry(geometry);
     // The scene takes a reference to the geometry; ours is released at once.
     rtcAttachGeometry(impl->scene, geometry);
@@ -307,8 +312,8 @@ void EmbreeScene::intersect(const RayBatch& rays, Hit* hits) const {
   AlignedRayBlock block;
   AlignedHitBlock hit_block;
   RTCIntersectContext context = make_context();
-  const float* vertices = impl_->vertices.data();
-  const uint32_t* indices = impl_->indices.data();
+  const float* vertices = impl_->vertices.get();
+  const uint32_t* indices = impl_->indices.get();
   for (std::size_t begin = 0; begin < rays.count; begin += kBlock) {
     const std::size_t n = std::min(kBlock, rays.count - begin);
     block.load(rays, begin, n);

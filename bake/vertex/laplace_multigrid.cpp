@@ -22,10 +22,17 @@ constexpr Index kCoarsestRows = 1500;  // solved by a direct factorisation at or
 constexpr int kMaxLevels = 30;
 constexpr double kStrength = 0.08;  // strong: |a_ij| >= kStrength * sqrt(a_ii a_jj)
 constexpr Index kBlockRows = 4096;  // rows per parallel block (fixed: sums stay deterministic)
-constexpr int kSweeps = 1;          // damped Jacobi sweeps before and after the coarse correction
 
 struct Level {
-  LaplaceMatrix a;
+  LaplaceMatrix a;  // released on the finest level once copied into `compact`
+  // The finest level's a with float values, when every value is exactly a
+  // float (the graph Laplacian's small integers): 8 bytes a non-zero
+  // instead of 12 for the product that every CG iteration and V-cycle
+  // repeat most. Empty otherwise.
+  struct {
+    std::vector<int> outer, inner;
+    std::vector<float> value;
+  } compact;
   Eigen::VectorXd jacobi;  // omega / a_ii: the damped Jacobi weights
   LaplaceMatrix p;         // prolongation from the next coarser level (rows: this level)
   LaplaceMatrix r;         // restriction to it, p^T
@@ -45,70 +52,162 @@ void for_row_blocks(Index rows, Fn&& fn) {
                       });
 }
 
+// A matrix in compressed rows as the products read it: the values of the
+// finest level are stored as float when that is exact (the graph Laplacian's
+// small integers), the rest as double. The products widen every value to
+// double, so they compute the same sums either way with less memory traffic.
+template <class V>
+struct Rows {
+  const int* outer;
+  const int* inner;
+  const V* value;
+  Index rows;
+};
+
+Rows<double> rows_of(const LaplaceMatrix& m) {
+  return {m.outerIndexPtr(), m.innerIndexPtr(), m.valuePtr(), m.rows()};
+}
+
 // The four sums of m's row i times the columns of x.
-inline Columns4 row_times(const LaplaceMatrix& m, Index i, const ColorColumns& x) {
-  const int* inner = m.innerIndexPtr();
-  const double* value = m.valuePtr();
-  const double* xs = x.data();
+template <class V>
+inline Columns4 row_times(const Rows<V>& m, Index i, const double* xs) {
   Columns4 s{0, 0, 0, 0};
-  for (int k = m.outerIndexPtr()[i]; k < m.outerIndexPtr()[i + 1]; ++k) {
-    const double v = value[k];
-    const double* row = xs + 4 * static_cast<Index>(inner[k]);
+  for (int k = m.outer[i]; k < m.outer[i + 1]; ++k) {
+    const double v = m.value[k];
+    const double* row = xs + 4 * static_cast<Index>(m.inner[k]);
     s[0] += v * row[0], s[1] += v * row[1], s[2] += v * row[2], s[3] += v * row[3];
   }
   return s;
 }
 
+// Per-block partial sums of the four columns, added in block order at the
+// end: the same sums, in the same order, whatever the thread count.
+class BlockSums {
+ public:
+  explicit BlockSums(Index rows)
+      : partial_(static_cast<std::size_t>(block_count(rows)), Columns4{0, 0, 0, 0}) {}
+  void set(Index block_begin, const Columns4& s) {
+    partial_[static_cast<std::size_t>(block_begin / kBlockRows)] = s;
+  }
+  Columns4 total() const {
+    Columns4 t{0, 0, 0, 0};
+    for (const Columns4& s : partial_) {
+      for (int c = 0; c < 4; ++c) t[c] += s[c];
+    }
+    return t;
+  }
+
+ private:
+  std::vector<Columns4> partial_;
+};
+
 // y = m x.
-void multiply(const LaplaceMatrix& m, const ColorColumns& x, ColorColumns& y) {
-  y.resize(m.rows(), 4);
-  for_row_blocks(m.rows(), [&](Index begin, Index end) {
+template <class V>
+void multiply(const Rows<V>& m, const ColorColumns& x, ColorColumns& y) {
+  y.resize(m.rows, 4);
+  const double* xs = x.data();
+  double* ys = y.data();
+  for_row_blocks(m.rows, [&](Index begin, Index end) {
     for (Index i = begin; i < end; ++i) {
-      const Columns4 s = row_times(m, i, x);
-      for (int c = 0; c < 4; ++c) y(i, c) = s[c];
+      const Columns4 s = row_times(m, i, xs);
+      for (int c = 0; c < 4; ++c) ys[4 * i + c] = s[c];
     }
   });
 }
 
-// y += m x.
-void multiply_add(const LaplaceMatrix& m, const ColorColumns& x, ColorColumns& y) {
-  for_row_blocks(m.rows(), [&](Index begin, Index end) {
+// y = m x, returning per column the sum over rows of x(i, c) * y(i, c) (m
+// square): the product and column_dots(x, y) in one pass.
+template <class V>
+Columns4 multiply_dot(const Rows<V>& m, const ColorColumns& x, ColorColumns& y) {
+  y.resize(m.rows, 4);
+  const double* xs = x.data();
+  double* ys = y.data();
+  BlockSums sums(m.rows);
+  for_row_blocks(m.rows, [&](Index begin, Index end) {
+    Columns4 d{0, 0, 0, 0};
     for (Index i = begin; i < end; ++i) {
-      const Columns4 s = row_times(m, i, x);
-      for (int c = 0; c < 4; ++c) y(i, c) += s[c];
+      const Columns4 s = row_times(m, i, xs);
+      for (int c = 0; c < 4; ++c) ys[4 * i + c] = s[c];
+      for (int c = 0; c < 4; ++c) d[c] += xs[4 * i + c] * ys[4 * i + c];
+    }
+    sums.set(begin, d);
+  });
+  return sums.total();
+}
+
+// y += m x.
+template <class V>
+void multiply_add(const Rows<V>& m, const ColorColumns& x, ColorColumns& y) {
+  const double* xs = x.data();
+  double* ys = y.data();
+  for_row_blocks(m.rows, [&](Index begin, Index end) {
+    for (Index i = begin; i < end; ++i) {
+      const Columns4 s = row_times(m, i, xs);
+      for (int c = 0; c < 4; ++c) ys[4 * i + c] += s[c];
     }
   });
 }
 
 // out = b - a x.
-void residual(const LaplaceMatrix& a, const ColorColumns& x, const ColorColumns& b,
-              ColorColumns& out) {
-  out.resize(a.rows(), 4);
-  for_row_blocks(a.rows(), [&](Index begin, Index end) {
+template <class V>
+void residual(const Rows<V>& a, const ColorColumns& x, const ColorColumns& b, ColorColumns& out) {
+  out.resize(a.rows, 4);
+  const double* xs = x.data();
+  const double* bs = b.data();
+  double* os = out.data();
+  for_row_blocks(a.rows, [&](Index begin, Index end) {
     for (Index i = begin; i < end; ++i) {
-      const Columns4 s = row_times(a, i, x);
-      for (int c = 0; c < 4; ++c) out(i, c) = b(i, c) - s[c];
+      const Columns4 s = row_times(a, i, xs);
+      for (int c = 0; c < 4; ++c) os[4 * i + c] = bs[4 * i + c] - s[c];
     }
   });
+}
+
+// One damped Jacobi sweep out of place: out = x + jacobi (b - a x) (the
+// residual and the update in one pass). With dot_with, also returns per
+// column the sum over rows of dot_with(i, c) * out(i, c).
+template <class V>
+Columns4 jacobi_sweep(const Rows<V>& a, const Eigen::VectorXd& jacobi, const ColorColumns& x,
+                      const ColorColumns& b, ColorColumns& out,
+                      const ColorColumns* dot_with = nullptr) {
+  out.resize(a.rows, 4);
+  const double* xs = x.data();
+  const double* bs = b.data();
+  const double* ws = jacobi.data();
+  double* os = out.data();
+  const double* ds = dot_with ? dot_with->data() : nullptr;
+  BlockSums sums(a.rows);
+  for_row_blocks(a.rows, [&](Index begin, Index end) {
+    Columns4 d{0, 0, 0, 0};
+    for (Index i = begin; i < end; ++i) {
+      const Columns4 s = row_times(a, i, xs);
+      for (int c = 0; c < 4; ++c) {
+        const double t = bs[4 * i + c] - s[c];
+        os[4 * i + c] = xs[4 * i + c] + ws[i] * t;
+      }
+      if (ds) {
+        for (int c = 0; c < 4; ++c) d[c] += ds[4 * i + c] * os[4 * i + c];
+      }
+    }
+    sums.set(begin, d);
+  });
+  return sums.total();
 }
 
 // Per column, the sum over rows of u(i, c) * v(i, c): block partial sums in
 // parallel, then added in block order.
 Columns4 column_dots(const ColorColumns& u, const ColorColumns& v) {
-  const Index rows = u.rows();
-  std::vector<Columns4> partial(static_cast<std::size_t>(block_count(rows)), Columns4{0, 0, 0, 0});
-  for_row_blocks(rows, [&](Index begin, Index end) {
+  const double* us = u.data();
+  const double* vs = v.data();
+  BlockSums sums(u.rows());
+  for_row_blocks(u.rows(), [&](Index begin, Index end) {
     Columns4 s{0, 0, 0, 0};
     for (Index i = begin; i < end; ++i) {
-      for (int c = 0; c < 4; ++c) s[c] += u(i, c) * v(i, c);
+      for (int c = 0; c < 4; ++c) s[c] += us[4 * i + c] * vs[4 * i + c];
     }
-    partial[static_cast<std::size_t>(begin / kBlockRows)] = s;
+    sums.set(begin, s);
   });
-  Columns4 total{0, 0, 0, 0};
-  for (const Columns4& s : partial) {
-    for (int c = 0; c < 4; ++c) total[c] += s[c];
-  }
-  return total;
+  return sums.total();
 }
 
 // Damped Jacobi weights omega / a_ii, with omega = 4 / (3 rho) and rho the
@@ -297,10 +396,10 @@ LaplaceMatrix smoothed_prolongation(const LaplaceMatrix& a, const Eigen::VectorX
 
 class Hierarchy {
  public:
-  // Takes the finest matrix over (finest() is it, for the caller's CG).
-  // Eigen 3.4's SparseMatrix has no move constructor or assignment: a
-  // std::move copies it. Matrices are handed over with swap, and the levels
-  // are reserved so that no vector growth copies them either.
+  // Takes the finest matrix over. Eigen 3.4's SparseMatrix has no move
+  // constructor or assignment: a std::move copies it. Matrices are handed
+  // over with swap, and the levels are reserved so that no vector growth
+  // copies them either.
   Status build(LaplaceMatrix&& a) {
     levels_.clear();
     levels_.reserve(kMaxLevels);
@@ -328,70 +427,90 @@ class Hierarchy {
       return make_error(ErrorCode::kInternal,
                         "occlusion fill: factorising the coarsest multigrid level failed");
     }
+    compact_finest();
     return ok_status();
   }
 
   int levels() const { return static_cast<int>(levels_.size()); }
-  const LaplaceMatrix& finest() const { return levels_[0].a; }
 
-  // z = M r: one symmetric V-cycle (the same number of damped Jacobi sweeps
-  // before and after, so M is symmetric positive definite, as CG needs).
-  void apply(const ColorColumns& r, ColorColumns& z) {
-    levels_[0].b = r;
-    cycle(0);
-    z = levels_[0].x;
+  // out = b - a x and q = a p with the sums p(i, c) q(i, c), on the finest
+  // level (the caller's CG).
+  void residual_finest(const ColorColumns& x, const ColorColumns& b, ColorColumns& out) const {
+    with_a(levels_[0], [&](const auto& a) { residual(a, x, b, out); });
   }
+  Columns4 multiply_dot_finest(const ColorColumns& p, ColorColumns& q) const {
+    Columns4 d{};
+    with_a(levels_[0], [&](const auto& a) { d = multiply_dot(a, p, q); });
+    return d;
+  }
+
+  // z = M r: one symmetric V-cycle (one damped Jacobi sweep before and one
+  // after the coarse correction, so M is symmetric positive definite, as CG
+  // needs). Returns per column the sum over rows of r(i, c) z(i, c).
+  Columns4 apply(const ColorColumns& r, ColorColumns& z) { return cycle(0, r, z, true); }
 
  private:
-  void smooth(Level& l) {
-    residual(l.a, l.x, l.b, l.t);
-    for_row_blocks(l.a.rows(), [&](Index begin, Index end) {
-      for (Index i = begin; i < end; ++i) {
-        for (int c = 0; c < 4; ++c) l.x(i, c) += l.jacobi[i] * l.t(i, c);
-      }
-    });
+  // fn(the level's a as Rows<float> or Rows<double>).
+  template <class Fn>
+  static void with_a(const Level& l, Fn&& fn) {
+    if (!l.compact.value.empty()) {
+      fn(Rows<float>{l.compact.outer.data(), l.compact.inner.data(), l.compact.value.data(),
+                     static_cast<Index>(l.compact.outer.size()) - 1});
+    } else {
+      fn(rows_of(l.a));
+    }
   }
 
-  void cycle(std::size_t k) {
+  // The finest a into `compact` when every value converts to float and back
+  // unchanged; the double copy is then released.
+  void compact_finest() {
+    Level& l = levels_[0];
+    const Index nnz = l.a.nonZeros();
+    const double* value = l.a.valuePtr();
+    bool exact = l.a.isCompressed();
+    for (Index k = 0; k < nnz && exact; ++k) {
+      exact = static_cast<double>(static_cast<float>(value[k])) == value[k];
+    }
+    if (!exact || nnz == 0) return;
+    l.compact.outer.assign(l.a.outerIndexPtr(), l.a.outerIndexPtr() + l.a.rows() + 1);
+    l.compact.inner.assign(l.a.innerIndexPtr(), l.a.innerIndexPtr() + nnz);
+    l.compact.value.resize(static_cast<std::size_t>(nnz));
+    for (Index k = 0; k < nnz; ++k) l.compact.value[k] = static_cast<float>(value[k]);
+    l.a = LaplaceMatrix();
+  }
+
+  // out = M_k b on level k: the V-cycle from x = 0. A level's `t` holds its
+  // residual until it is restricted; the next coarser level's result is
+  // written into that level's own `t` (free by then). With dot_b, returns
+  // the sums b(i, c) out(i, c).
+  Columns4 cycle(std::size_t k, const ColorColumns& b, ColorColumns& out, bool dot_b) {
     Level& l = levels_[k];
     if (k + 1 == levels_.size()) {
-      l.x = coarsest_.solve(l.b);
-      return;
+      out = coarsest_.solve(b);
+      return dot_b ? column_dots(b, out) : Columns4{};
     }
-    l.x = l.jacobi.asDiagonal() * l.b;  // the first sweep, from x = 0
-    for (int s = 1; s < kSweeps; ++s) smooth(l);
-    residual(l.a, l.x, l.b, l.t);
-    multiply(l.r, l.t, levels_[k + 1].b);
-    cycle(k + 1);
-    multiply_add(l.p, levels_[k + 1].x, l.x);
-    for (int s = 0; s < kSweeps; ++s) smooth(l);
+    // The first sweep, from x = 0: x = jacobi b.
+    l.x.resize(b.rows(), 4);
+    for_row_blocks(b.rows(), [&](Index begin, Index end) {
+      for (Index i = begin; i < end; ++i) {
+        for (int c = 0; c < 4; ++c) l.x(i, c) = l.jacobi[i] * b(i, c);
+      }
+    });
+    with_a(l, [&](const auto& a) { residual(a, l.x, b, l.t); });
+    Level& next = levels_[k + 1];
+    multiply(rows_of(l.r), l.t, next.b);
+    cycle(k + 1, next.b, next.t, false);
+    multiply_add(rows_of(l.p), next.t, l.x);
+    Columns4 d{};
+    with_a(l, [&](const auto& a) {
+      d = jacobi_sweep(a, l.jacobi, l.x, b, out, dot_b ? &b : nullptr);
+    });
+    return d;
   }
 
   std::vector<Level> levels_;
   Eigen::SimplicialLDLT<CoarseMatrix, Eigen::Lower> coarsest_;
 };
-
-// A breadth-first order of a's graph (seeds in index order): order[new] = old.
-// Neighbours end up near one another in memory, which the products' gathers
-// of x need once the vectors outgrow the cache (a subdivided mesh numbers the
-// new midpoints far from their corners).
-std::vector<int> breadth_first_order(const LaplaceMatrix& a) {
-  const Index n = a.rows();
-  std::vector<int> order;
-  order.reserve(static_cast<std::size_t>(n));
-  std::vector<uint8_t> seen(static_cast<std::size_t>(n), 0);
-  for (Index seed = 0; seed < n; ++seed) {
-    if (seen[seed]) continue;
-    seen[seed] = 1;
-    order.push_back(static_cast<int>(seed));
-    for (std::size_t head = order.size() - 1; head < order.size(); ++head) {
-      for (LaplaceMatrix::InnerIterator it(a, order[head]); it; ++it) {
-        if (!seen[it.col()]) seen[it.col()] = 1, order.push_back(static_cast<int>(it.col()));
-      }
-    }
-  }
-  return order;
-}
 
 // a with rows and columns renumbered: new row r is old row order[r]. Each
 // new row is old row order[r]'s entries renumbered and sorted by column,
@@ -432,7 +551,6 @@ Expected<MultigridStats> solve_ordered(LaplaceMatrix&& ordered, const ColorColum
   MultigridStats stats;
   Hierarchy hierarchy;
   if (Status built = hierarchy.build(std::move(ordered)); !built) return built.error();
-  const LaplaceMatrix& a = hierarchy.finest();
   stats.levels = hierarchy.levels();
 
   Columns4 limit{}, b_norm2 = column_dots(b, b);
@@ -445,10 +563,9 @@ Expected<MultigridStats> solve_ordered(LaplaceMatrix&& ordered, const ColorColum
     }
   }
   ColorColumns r, z, p, q;
-  residual(a, x, b, r);
-  hierarchy.apply(r, z);
+  hierarchy.residual_finest(x, b, r);
+  Columns4 rz = hierarchy.apply(r, z);
   p = z;
-  Columns4 rz = column_dots(r, z);
   auto converged = [&](const Columns4& r_norm2) {
     bool all = true;
     for (int c = 0; c < 4; ++c) {
@@ -475,22 +592,31 @@ Expected<MultigridStats> solve_ordered(LaplaceMatrix&& ordered, const ColorColum
                             std::to_string(max_iterations) + " iterations");
     }
     ++stats.iterations;
-    multiply(a, p, q);
-    const Columns4 pq = column_dots(p, q);
+    const Columns4 pq = hierarchy.multiply_dot_finest(p, q);
     Columns4 alpha{};
     for (int c = 0; c < 4; ++c) alpha[c] = done[c] || pq[c] <= 0 ? 0.0 : rz[c] / pq[c];
-    for_row_blocks(n, [&](Index begin, Index end) {
-      for (Index i = begin; i < end; ++i) {
-        for (int c = 0; c < 4; ++c) {
-          x(i, c) += alpha[c] * p(i, c);
-          r(i, c) -= alpha[c] * q(i, c);
+    // x += alpha p, r -= alpha q, and the sums r(i, c)^2, in one pass.
+    {
+      BlockSums sums(n);
+      double* xs = x.data();
+      double* rs = r.data();
+      const double* ps = p.data();
+      const double* qs = q.data();
+      for_row_blocks(n, [&](Index begin, Index end) {
+        Columns4 d{0, 0, 0, 0};
+        for (Index i = begin; i < end; ++i) {
+          for (int c = 0; c < 4; ++c) {
+            xs[4 * i + c] += alpha[c] * ps[4 * i + c];
+            rs[4 * i + c] -= alpha[c] * qs[4 * i + c];
+          }
+          for (int c = 0; c < 4; ++c) d[c] += rs[4 * i + c] * rs[4 * i + c];
         }
-      }
-    });
-    r_norm2 = column_dots(r, r);
+        sums.set(begin, d);
+      });
+      r_norm2 = sums.total();
+    }
     if (converged(r_norm2)) break;
-    hierarchy.apply(r, z);
-    const Columns4 rz_next = column_dots(r, z);
+    const Columns4 rz_next = hierarchy.apply(r, z);
     Columns4 beta{};
     for (int c = 0; c < 4; ++c) beta[c] = done[c] || rz[c] == 0 ? 0.0 : rz_next[c] / rz[c];
     rz = rz_next;
@@ -506,16 +632,51 @@ Expected<MultigridStats> solve_ordered(LaplaceMatrix&& ordered, const ColorColum
 
 }  // namespace
 
+std::vector<int> breadth_first_order(Index n, const int* start, const int* column, int offset) {
+  std::vector<int> order;
+  order.reserve(static_cast<std::size_t>(n));
+  std::vector<uint8_t> seen(static_cast<std::size_t>(n), 0);
+  for (Index seed = 0; seed < n; ++seed) {
+    if (seen[seed]) continue;
+    seen[seed] = 1;
+    order.push_back(static_cast<int>(seed));
+    for (std::size_t head = order.size() - 1; head < order.size(); ++head) {
+      const int i = order[head];
+      for (int k = start[i]; k < start[i + 1]; ++k) {
+        const int j = column[k] - offset;
+        if (!seen[j]) seen[j] = 1, order.push_back(j);
+      }
+    }
+  }
+  return order;
+}
+
+Expected<MultigridStats> solve_laplace_multigrid_ordered(LaplaceMatrix&& a, const ColorColumns& b,
+                                                         ColorColumns& x, double relative_tolerance,
+                                                         int max_iterations) {
+  const Index n = a.rows();
+  if (x.rows() != n) x = ColorColumns::Zero(n, 4);
+  if (n == 0) return MultigridStats{};
+  return solve_ordered(std::move(a), b, x, relative_tolerance, max_iterations);
+}
+
 Expected<MultigridStats> solve_laplace_multigrid(const LaplaceMatrix& a, const ColorColumns& b,
                                                  ColorColumns& x, double relative_tolerance,
                                                  int max_iterations) {
   const Index n = a.rows();
   if (x.rows() != n) x = ColorColumns::Zero(n, 4);
   if (n == 0) return MultigridStats{};
-  const std::vector<int> order = breadth_first_order(a);
+  LaplaceMatrix compressed;
+  const LaplaceMatrix* m = &a;
+  if (!a.isCompressed()) {
+    compressed = a;
+    compressed.makeCompressed();
+    m = &compressed;
+  }
+  const std::vector<int> order = breadth_first_order(n, m->outerIndexPtr(), m->innerIndexPtr(), 0);
   ColorColumns ob(n, 4), ox(n, 4);
   for (Index r = 0; r < n; ++r) ob.row(r) = b.row(order[r]), ox.row(r) = x.row(order[r]);
-  LaplaceMatrix ordered = reordered(a, order);
+  LaplaceMatrix ordered = reordered(*m, order);
   Expected<MultigridStats> stats =
       solve_ordered(std::move(ordered), ob, ox, relative_tolerance, max_iterations);
   if (stats) {

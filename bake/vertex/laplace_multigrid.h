@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <vector>
 
 #include "mapping/error.h"
 
@@ -44,5 +45,22 @@ struct MultigridStats {
 Expected<MultigridStats> solve_laplace_multigrid(const LaplaceMatrix& a, const ColorColumns& b,
                                                  ColorColumns& x, double relative_tolerance,
                                                  int max_iterations = 500);
+
+// The same solve for a matrix its caller has already numbered so that
+// neighbours sit close together in memory (solve_laplace_multigrid numbers
+// them by breadth_first_order first, which the products' gathers need once
+// the vectors outgrow the caches). Takes a over (its memory is the finest
+// level's).
+Expected<MultigridStats> solve_laplace_multigrid_ordered(LaplaceMatrix&& a, const ColorColumns& b,
+                                                         ColorColumns& x, double relative_tolerance,
+                                                         int max_iterations = 500);
+
+// A breadth-first order of a graph of n nodes (seeds in index order, each
+// node's neighbours in the order stored): order[new] = old. The neighbours of
+// node i are column[k] - offset for k in [start[i], start[i + 1]) (the
+// compressed rows of a matrix, or a slice of rows [offset, offset + n) of a
+// larger one with start pointing at its row offset); repeats are allowed.
+std::vector<int> breadth_first_order(Eigen::Index n, const int* start, const int* column,
+                                     int offset);
 
 }  // namespace texbake

@@ -4,7 +4,6 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <numeric>
-#include <span>
 #include <unordered_map>
 #include <utility>
 
@@ -41,64 +40,61 @@ class DisjointSets {
 
 constexpr uint32_t kNotUnknown = 0xFFFFFFFFu;
 
-// The whole symmetric matrix of one component for the multigrid solver, in
-// compressed rows: `diagonal` on the diagonal and -1 per coupling (row, col)
-// at both (row, col) and (col, row), repeated couplings summed. Rows and
-// columns are local (row - first).
-using Coupling = std::pair<uint32_t, uint32_t>;
-LaplaceMatrix component_matrix(const Coupling* couplings_begin, const Coupling* couplings_end,
-                               const double* diagonal, uint32_t first, Eigen::Index size) {
-  const std::span<const Coupling> couplings(couplings_begin, couplings_end);
-  std::vector<int> start(static_cast<std::size_t>(size) + 1, 1);  // the diagonal
-  start[0] = 0;
-  for (const auto& [r, c] : couplings) ++start[r - first + 1], ++start[c - first + 1];
-  for (std::size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  std::vector<int> column(static_cast<std::size_t>(start.back()));
-  std::vector<double> value(column.size());
-  std::vector<int> next(start.begin(), start.end() - 1);
-  for (Eigen::Index i = 0; i < size; ++i) {
-    column[next[i]] = static_cast<int>(i), value[next[i]++] = diagonal[i];
-  }
-  for (const auto& [r, c] : couplings) {
-    const int lr = static_cast<int>(r - first), lc = static_cast<int>(c - first);
-    column[next[lr]] = lc, value[next[lr]++] = -1.0;
-    column[next[lc]] = lr, value[next[lc]++] = -1.0;
-  }
-  // Sort each row by column and sum repeats (an edge shared by two triangles).
+// The Laplacian of rows [first, first + size) (one component) for the
+// multigrid solver, its rows and columns renumbered by `order` (new row r is
+// local row order[r]): `diagonal` on the diagonal and, per coupling, minus
+// the number of times it is listed. adjacency: the couplings of every row,
+// global row numbers, each row's sorted (repeats adjacent); start: where
+// each row's list begins (start[first + size] ends the last). Each new row
+// is written in parallel straight into the compressed arrays, sorted by
+// column, repeats summed: the matrix a component matrix built entry by
+// entry and then renumbered would be, in one pass.
+LaplaceMatrix ordered_component_matrix(const std::vector<int>& start,
+                                       const std::vector<int>& adjacency,
+                                       const std::vector<double>& diagonal, uint32_t first,
+                                       Eigen::Index size, const std::vector<int>& order) {
+  std::vector<int> new_of(static_cast<std::size_t>(size));
+  for (Eigen::Index r = 0; r < size; ++r) new_of[order[r]] = static_cast<int>(r);
+  // Distinct neighbours of each row (its sorted list's runs), plus the diagonal.
   std::vector<int> kept(static_cast<std::size_t>(size));
-  parallel_for_chunks(static_cast<std::size_t>(size), 4096,
-                      [&](std::size_t begin, std::size_t end) {
-                        std::vector<std::pair<int, double>> row;
-                        for (std::size_t i = begin; i < end; ++i) {
-                          row.clear();
-                          for (int k = start[i]; k < start[i + 1]; ++k)
-                            row.emplace_back(column[k], value[k]);
-                          std::sort(row.begin(), row.end(),
-                                    [](const auto& x, const auto& y) { return x.first < y.first; });
-                          int out = start[i];
-                          for (std::size_t k = 0; k < row.size(); ++k) {
-                            if (out > start[i] && column[out - 1] == row[k].first) {
-                              value[out - 1] += row[k].second;
-                            } else {
-                              column[out] = row[k].first, value[out++] = row[k].second;
-                            }
-                          }
-                          kept[i] = out - start[i];
-                        }
-                      });
-  // The kept entries, written straight into the compressed arrays.
+  parallel_for_chunks(static_cast<std::size_t>(size), 4096, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      int distinct = 1;
+      const int rb = start[first + i], re = start[first + i + 1];
+      for (int k = rb; k < re; ++k) distinct += k == rb || adjacency[k] != adjacency[k - 1];
+      kept[i] = distinct;
+    }
+  });
   LaplaceMatrix m(size, size);
   int* outer = m.outerIndexPtr();
   outer[0] = 0;
-  for (Eigen::Index i = 0; i < size; ++i) outer[i + 1] = outer[i] + kept[i];
+  for (Eigen::Index r = 0; r < size; ++r) outer[r + 1] = outer[r] + kept[order[r]];
+  kept = {};
   m.resizeNonZeros(outer[size]);
-  parallel_for_chunks(
-      static_cast<std::size_t>(size), 4096, [&](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-          std::copy_n(column.begin() + start[i], kept[i], m.innerIndexPtr() + outer[i]);
-          std::copy_n(value.begin() + start[i], kept[i], m.valuePtr() + outer[i]);
-        }
-      });
+  int* inner = m.innerIndexPtr();
+  double* value = m.valuePtr();
+  parallel_for_chunks(static_cast<std::size_t>(size), 4096, [&](std::size_t b, std::size_t e) {
+    std::vector<std::pair<int, double>> row;
+    for (std::size_t r = b; r < e; ++r) {
+      const auto old = static_cast<uint32_t>(order[r]);
+      row.clear();
+      row.emplace_back(static_cast<int>(r), diagonal[first + old]);
+      const int rb = start[first + old], re = start[first + old + 1];
+      for (int k = rb; k < re;) {
+        int run = k + 1;
+        while (run < re && adjacency[run] == adjacency[k]) ++run;
+        row.emplace_back(new_of[adjacency[k] - static_cast<int>(first)],
+                         -static_cast<double>(run - k));
+        k = run;
+      }
+      std::sort(row.begin(), row.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
+      for (std::size_t k = 0; k < row.size(); ++k) {
+        inner[outer[r] + k] = row[k].first;
+        value[outer[r] + k] = row[k].second;
+      }
+    }
+  });
   return m;
 }
 
@@ -240,7 +236,8 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
   // of a manifold mesh weighs 2, uniformly: the solution is unchanged).
   std::vector<double> diagonal(rows, 0.0);
   std::vector<std::pair<uint32_t, uint32_t>> couplings;  // (row, column), row > column
-  couplings.reserve(mesh.triangles.size());
+  couplings.reserve(mesh.triangles.size());              // reserved, not touched: no page is spent
+  std::vector<int> start(rows + 1, 0);  // couplings per row, then where each row's begin
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(rows), 4);
   auto row_of = [&](uint32_t v) { return slot[v] == kNotUnknown ? kNotUnknown : row[slot[v]]; };
   for (const auto& tri : mesh.triangles) {
@@ -251,6 +248,7 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
         if (ra == rb) continue;  // copies of one point (a zero-length edge)
         diagonal[ra] += 1, diagonal[rb] += 1;
         couplings.emplace_back(std::max(ra, rb), std::min(ra, rb));
+        ++start[ra + 1], ++start[rb + 1];
       } else if (ra != kNotUnknown) {
         // b is known (an unanchored unknown never shares an edge with an anchored one).
         diagonal[ra] += 1;
@@ -261,21 +259,25 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
       }
     }
   }
-  // Group the couplings by component (a stable counting sort on their row).
-  std::vector<uint32_t> component_of_row(rows);
-  for (std::size_t c = 0; c < components; ++c) {
-    std::fill(component_of_row.begin() + component_start[c],
-              component_of_row.begin() + component_start[c + 1], static_cast<uint32_t>(c));
-  }
-  std::vector<uint32_t> coupling_start(components + 1, 0);
-  for (const auto& [r, col] : couplings) ++coupling_start[component_of_row[r] + 1];
-  for (std::size_t c = 0; c < components; ++c) coupling_start[c + 1] += coupling_start[c];
-  std::vector<std::pair<uint32_t, uint32_t>> grouped(couplings.size());
+  // Every row's couplings, both ways, in compressed rows over all the rows
+  // (a component's rows are contiguous, so its couplings are a contiguous
+  // slice), each row's list sorted: repeated couplings (an edge of two
+  // triangles) end up side by side.
+  for (std::size_t r = 0; r < rows; ++r) start[r + 1] += start[r];
+  std::vector<int> adjacency(static_cast<std::size_t>(start[rows]));  // written whole below
   {
-    std::vector<uint32_t> next(coupling_start.begin(), coupling_start.end() - 1);
-    for (const auto& e : couplings) grouped[next[component_of_row[e.first]]++] = e;
+    std::vector<int> next(start.begin(), start.end() - 1);
+    for (const auto& [r, col] : couplings) {
+      adjacency[next[r]++] = static_cast<int>(col);
+      adjacency[next[col]++] = static_cast<int>(r);
+    }
   }
   couplings = {};
+  parallel_for_chunks(rows, 4096, [&](std::size_t b, std::size_t e) {
+    for (std::size_t r = b; r < e; ++r) {
+      std::sort(adjacency.begin() + start[r], adjacency.begin() + start[r + 1]);
+    }
+  });
 
   // One sparse symmetric positive definite solve per component: a component's
   // factor is freed before the next is built, so the peak memory is that of
@@ -286,26 +288,37 @@ Expected<FillResult> solve_fill(const MeshData& mesh, std::vector<Rgba>& colors,
   // A component of more than solver.direct_rows rows is solved iteratively
   // instead (bake/vertex/laplace_multigrid.h): a direct factor's time and
   // memory grow as n^1.5 or worse on a surface, the multigrid's linearly.
+  // Its rows are numbered breadth-first first (the solver's products gather
+  // neighbours' values), and its matrix, right-hand side and solution are
+  // made in that order straight from the couplings (no matrix in the
+  // component's own order, no copies of the vectors).
   std::vector<Eigen::Triplet<double>> triplets;
   for (std::size_t c = 0; c < components; ++c) {
     const uint32_t first = component_start[c];
     const auto size = static_cast<Eigen::Index>(component_start[c + 1] - first);
     if (static_cast<std::size_t>(size) > solver.direct_rows) {
-      const LaplaceMatrix laplacian = component_matrix(grouped.data() + coupling_start[c],
-                                                       grouped.data() + coupling_start[c + 1],
-                                                       diagonal.data() + first, first, size);
-      const ColorColumns b = rhs.middleRows(first, size);
-      ColorColumns x;
+      const std::vector<int> order = breadth_first_order(size, start.data() + first,
+                                                         adjacency.data(), static_cast<int>(first));
+      LaplaceMatrix laplacian =
+          ordered_component_matrix(start, adjacency, diagonal, first, size, order);
+      ColorColumns b(size, 4);
+      for (Eigen::Index r = 0; r < size; ++r) b.row(r) = rhs.row(first + order[r]);
+      ColorColumns x = ColorColumns::Zero(size, 4);
       Expected<MultigridStats> solved =
-          solve_laplace_multigrid(laplacian, b, x, solver.relative_tolerance);
+          solve_laplace_multigrid_ordered(std::move(laplacian), b, x, solver.relative_tolerance);
       if (!solved) return solved.error();
       result.iterations = std::max(result.iterations, solved->iterations);
-      rhs.middleRows(first, size) = x;
+      for (Eigen::Index r = 0; r < size; ++r) rhs.row(first + order[r]) = x.row(r);
       continue;
     }
+    // The lower triangle: each coupling once, as (row, column) with row > column.
     triplets.clear();
-    for (uint32_t k = coupling_start[c]; k < coupling_start[c + 1]; ++k) {
-      triplets.emplace_back(grouped[k].first - first, grouped[k].second - first, -1.0);
+    for (Eigen::Index r = 0; r < size; ++r) {
+      const int global = static_cast<int>(first + r);
+      for (int k = start[global]; k < start[global + 1]; ++k) {
+        if (adjacency[k] < global)
+          triplets.emplace_back(r, adjacency[k] - static_cast<int>(first), -1.0);
+      }
     }
     for (Eigen::Index r = 0; r < size; ++r) triplets.emplace_back(r, r, diagonal[first + r]);
     Eigen::SparseMatrix<double> laplacian(size, size);

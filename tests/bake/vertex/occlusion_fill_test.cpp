@@ -16,6 +16,7 @@
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
+#include "bake/vertex/laplace_multigrid.h"
 #include "mesh_io/read_mesh.h"
 #include "tests/bake/test_meshes.h"
 
@@ -255,6 +256,57 @@ TEST(OcclusionFill, MultigridIdenticalWithOneAndTwoThreads) {
     ASSERT_TRUE(fill_harmonic(d.mesh, two, d.unknown, never_called, kMultigridTight));
   }
   EXPECT_EQ(one, two);
+}
+
+// The fill builds a large component's matrix straight in the breadth-first
+// order its solver wants, from the couplings (no matrix in row order, no
+// renumbered copy): it must be the very system solve_laplace_multigrid
+// solves when given the Laplacian assembled here independently, entry by
+// entry with Eigen's triplets, and the right-hand side summed in triangle
+// order. The same system gives the same bits.
+TEST(OcclusionFill, MultigridFillSolvesTheLaplacianAssembledByHand) {
+  DiscCase d = disc_case();
+  for (std::size_t v = 0; v < d.unknown.size(); ++v) {
+    const Float3& p = d.mesh.positions[v];
+    d.unknown[v] = std::hypot(p.x - 0.5, p.y - 0.5) < 0.4 ? 1 : 0;  // one component
+  }
+  const std::vector<Rgba> known = random_known(d.unknown, 5);
+  std::vector<int> row(d.unknown.size(), -1);
+  int rows = 0;
+  for (std::size_t v = 0; v < d.unknown.size(); ++v) {
+    if (d.unknown[v]) row[v] = rows++;
+  }
+  std::vector<Eigen::Triplet<double>> entries;
+  ColorColumns b = ColorColumns::Zero(rows, 4);
+  for (const auto& tri : d.mesh.triangles) {
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t u = tri[k], w = tri[(k + 1) % 3];
+      if (row[u] >= 0 && row[w] >= 0) {
+        entries.emplace_back(row[u], row[w], -1.0);
+        entries.emplace_back(row[w], row[u], -1.0);
+        entries.emplace_back(row[u], row[u], 1.0);
+        entries.emplace_back(row[w], row[w], 1.0);
+      } else if (row[u] >= 0) {
+        entries.emplace_back(row[u], row[u], 1.0);
+        for (int c = 0; c < 4; ++c) b(row[u], c) += known[w][c];
+      } else if (row[w] >= 0) {
+        entries.emplace_back(row[w], row[w], 1.0);
+        for (int c = 0; c < 4; ++c) b(row[w], c) += known[u][c];
+      }
+    }
+  }
+  LaplaceMatrix laplacian(rows, rows);
+  laplacian.setFromTriplets(entries.begin(), entries.end());
+  ColorColumns x;
+  ASSERT_TRUE(solve_laplace_multigrid(laplacian, b, x, kMultigrid.relative_tolerance));
+
+  std::vector<Rgba> filled = known;
+  ASSERT_TRUE(fill_harmonic(d.mesh, filled, d.unknown, never_called, kMultigrid));
+  ASSERT_GT(rows, 10000);
+  for (std::size_t v = 0; v < d.unknown.size(); ++v) {
+    if (!d.unknown[v]) continue;
+    for (int c = 0; c < 4; ++c) ASSERT_EQ(filled[v][c], static_cast<float>(x(row[v], c))) << v;
+  }
 }
 
 // The vertices of `mesh` whose ray away from the centre of its bounding box
