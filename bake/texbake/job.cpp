@@ -266,11 +266,13 @@ class JobRun {
   // ---- Photographs ----
 
   // A bake error about a photo (bake/photo/photo_view.h: "the photo of
-  // camera ...", "no usable photo: ...") names the photo; other input
-  // errors are the mesh's.
+  // camera ...", "the mask of camera ...", "no usable photo: ...") names the
+  // photo; other input errors are the mesh's.
   Error photo_error(const Error& error) const {
     const std::string& m = error.message;
-    if (m.rfind("the photo of camera ", 0) == 0 || m.rfind("no usable photo", 0) == 0) return error;
+    if (m.rfind("the photo of camera ", 0) == 0 || m.rfind("the mask of camera ", 0) == 0 ||
+        m.rfind("no usable photo", 0) == 0)
+      return error;
     return mesh_error(error);
   }
 
@@ -318,6 +320,11 @@ class JobRun {
     if (!photos) return photos.error();
     if (job_.on_note) {
       for (const std::string& n : notes) job_.on_note(n);
+    }
+    if (!job_.masks.empty()) {
+      std::vector<std::string> mask_warnings;
+      if (Status s = find_masks(*photos, job_.masks, "--masks", &mask_warnings); !s) return s;
+      for (const std::string& w : mask_warnings) warn(w);
     }
     Expected<LoadedMesh> mesh = read_job_mesh();
     if (!mesh) return mesh.error();
