@@ -375,6 +375,13 @@ class JobRun {
 
   // ---- Layers ----
 
+  // A layers bake's error about one layer ("layers[i]...": its files, its
+  // cameras' model, photos or masks) names that layer; others are the mesh's.
+  Error layer_error(const Error& error) const {
+    if (error.message.rfind("layers[", 0) == 0) return error;
+    return mesh_error(error);
+  }
+
   Status run_layers() {
     if (Status s = check_files(); !s) return s;
     auto stage = Clock::now();
@@ -408,7 +415,7 @@ class JobRun {
       }
       Expected<LayerAtlas> baked =
           bake_atlas_texture_from_layers(mesh->mesh, *spec, options, job_.atlas, run);
-      if (!baked) return mesh_error(baked.error());
+      if (!baked) return layer_error(baked.error());
       for (const std::string& w : baked->atlas.stats.warnings) warn(w);
       result_.stats = baked->atlas.stats;
       if (Status s = write_atlas_set(baked->atlas,
@@ -428,7 +435,7 @@ class JobRun {
       return ok_status();
     }
     Expected<LayerColors> baked = bake_vertex_colors_from_layers(mesh->mesh, *spec, options, run);
-    if (!baked) return mesh_error(baked.error());
+    if (!baked) return layer_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
     result_.stats = baked->stats;
     if (Status s = write_vertex_set(mesh->mesh, baked->colors,

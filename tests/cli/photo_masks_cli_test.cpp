@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -298,6 +299,62 @@ TEST_F(PhotoMasksCli, AnOutputThatIsAMaskFileIsRefused) {
   EXPECT_EQ(slurp(t / "m2" / "view_00.png"), before);
   EXPECT_FALSE(fs::exists(t / "o.ply"));
   EXPECT_FALSE(fs::exists(t / "m2" / "view_00.obj"));
+  fs::remove_all(t);
+}
+
+// Vertex colours of a PLY as 8-bit RGBA.
+std::vector<std::array<int, 4>> colours(const fs::path& ply) {
+  Expected<LoadedMesh> m = read_mesh(ply);
+  EXPECT_TRUE(m) << m.error().message;
+  std::vector<std::array<int, 4>> out;
+  for (const auto& c : m->mesh.vertex_colors) {
+    out.push_back({static_cast<int>(c[0] * 255 + 0.5f), static_cast<int>(c[1] * 255 + 0.5f),
+                   static_cast<int>(c[2] * 255 + 0.5f), static_cast<int>(c[3] * 255 + 0.5f)});
+  }
+  return out;
+}
+
+// A "cameras" layer's "masks" (relative to the layers file) over base
+// "none" is bake --cameras --masks where some photo sees the vertex, and
+// sees fewer vertices than the layer without masks.
+TEST_F(PhotoMasksCli, ACamerasLayerTakesMasks) {
+  const fs::path& d = *dir_;
+  const fs::path t = testing_cli::fresh_test_dir("masks_layer");
+  const std::string bunny = q(kData + "/bunny00.off");
+  write_masks(t / "masks", mask_value);
+  const std::string model = (d / "ws/sparse/0").string();
+  std::ofstream(t / "L.json") << R"({"layers":[{"cameras":")" << model << R"(","masks":"masks"}]})";
+  std::ofstream(t / "N.json") << R"({"layers":[{"cameras":")" << model << R"("}]})";
+  std::ofstream(t / "B.json") << R"({"layers":[{"cameras":")" << model
+                              << R"(","masks":"nowhere"}]})";
+  testing_cli::RunResult r =
+      run_texbake("bake " + bunny + " --layers " + q(t / "L.json") + " -q -o " + q(t / "l.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_texbake("bake " + bunny + " --layers " + q(t / "N.json") + " -q -o " + q(t / "n.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = run_texbake("bake " + bunny + " --cameras " + q(model) + " --masks " + q(t / "masks") +
+                  " -q -o " + q(t / "p.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto layer = colours(t / "l.ply"), plain = colours(t / "n.ply"),
+             photos = colours(t / "p.ply");
+  ASSERT_EQ(layer.size(), photos.size());
+  std::size_t seen = 0, seen_plain = 0;
+  for (std::size_t v = 0; v < layer.size(); ++v) {
+    seen_plain += plain[v][3] == 255;
+    if (layer[v][3] == 0) continue;
+    ASSERT_EQ(layer[v][3], 255) << v;
+    ++seen;
+    for (int c = 0; c < 3; ++c) ASSERT_EQ(layer[v][c], photos[v][c]) << "vertex " << v;
+  }
+  EXPECT_GT(seen, 1000u);
+  EXPECT_LT(seen, seen_plain);
+  r = run_texbake("bake " + bunny + " --layers " + q(t / "B.json") + " -o " + q(t / "b.ply"));
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("texbake: error: layers[0].masks " + (t / "nowhere").string() +
+                       ": no such folder"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(t / "b.ply"));
   fs::remove_all(t);
 }
 
