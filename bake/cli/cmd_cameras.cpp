@@ -81,6 +81,7 @@ int run_check(const CamerasArgs& a) {
                    {"in_front", c.in_front},
                    {"inside", c.inside},
                    {"masked", c.masked},
+                   {"has_mask", c.has_mask},
                    {"visible", c.visible},
                    {"warnings", c.warnings}});
     }
