@@ -60,14 +60,14 @@ Expected<E> keyword(const json& v, const std::string& where,
 Expected<LayerSpec> read_layer(const json& o, const fs::path& folder, const std::string& where) {
   if (!o.is_object()) return fail(where, "a layer must be a JSON object");
   static const std::set<std::string> keys = {
-      "proxy", "proxy_file", "cameras",    "images",  "texture", "mask",    "opacity",
-      "mode",  "angle_fade", "visibility", "outside", "filter",  "samples", "wrap"};
+      "proxy", "proxy_file", "cameras",    "images",  "masks",  "texture", "mask", "opacity",
+      "mode",  "angle_fade", "visibility", "outside", "filter", "samples", "wrap"};
   for (const auto& [key, value] : o.items()) {
     if (!keys.count(key)) {
       return fail(where, "unknown key '" + key +
-                             "' (expected proxy, proxy_file, cameras, images, texture, mask, "
-                             "opacity, mode, angle_fade, visibility, outside, filter, samples, "
-                             "wrap)");
+                             "' (expected proxy, proxy_file, cameras, images, masks, texture, "
+                             "mask, opacity, mode, angle_fade, visibility, outside, filter, "
+                             "samples, wrap)");
     }
   }
   const int projectors = o.contains("proxy") + o.contains("proxy_file") + o.contains("cameras");
@@ -99,6 +99,15 @@ Expected<LayerSpec> read_layer(const json& o, const fs::path& folder, const std:
     Expected<std::string> path = path_value(o["images"], where + ".images");
     if (!path) return path.error();
     layer.images = resolve(folder, *path);
+  }
+  if (o.contains("masks")) {
+    if (layer.cameras.empty()) {
+      return fail(where + ".masks",
+                  "applies to a cameras layer only (a proxy layer takes \"mask\")");
+    }
+    Expected<std::string> path = path_value(o["masks"], where + ".masks");
+    if (!path) return path.error();
+    layer.masks = resolve(folder, *path);
   }
   if (o.contains("texture")) {
     if (!layer.cameras.empty()) {

@@ -2,7 +2,7 @@
 // 10): an ordered list of projections composited over a base, bottom first.
 //   {"base": "mesh" | [r,g,b,a] | "none",
 //    "layers": [{"proxy": {...} | "proxy_file": "p.json" | "cameras": "sparse/0",
-//                "images": "photos/", "texture": "label.png", "mask": "m.png",
+//                "images": "photos/", "masks": "masks/", "texture": "label.png", "mask": "m.png",
 //                "opacity": 1.0, "mode": "over" | "multiply" | "add" | "replace",
 //                "angle_fade": [60, 80], "visibility": "first" | "all",
 //                "outside": "transparent" | "clamp" | [r,g,b,a],
@@ -11,7 +11,8 @@
 // Paths are relative to the layers file's folder (absolute ones stay). A
 // layer's projector is exactly one of "proxy" (an inline proxy or camera
 // object, mesh_io/proxy_json.h), "proxy_file" (a proxy or camera file) and
-// "cameras" (a COLMAP model or a camera file, as --cameras, with optional "images").
+// "cameras" (a COLMAP model or a camera file, as --cameras, with optional "images"
+// and "masks", as --images and --masks).
 // "texture" is required unless the layer has "cameras" (whose photos are
 // the images), where it is an error; a "cameras" layer takes no "mask", and
 // only "outside" "transparent" and "visibility" "first". "filter" is the
@@ -52,6 +53,7 @@ struct LayerSpec {
   std::filesystem::path proxy_file;    // "proxy_file", resolved (empty otherwise)
   std::filesystem::path cameras;       // "cameras" (then projector is empty)
   std::filesystem::path images;        // "images" (with "cameras" only)
+  std::filesystem::path masks;         // "masks" (with "cameras" only): COLMAP's mask folder
   std::filesystem::path texture;       // resolved against the layers file's folder
   std::filesystem::path mask;          // empty: none
   double opacity = 1;

@@ -1,6 +1,6 @@
-// texbake cameras check MESH --cameras PATH [--images DIR] [--json]
+// texbake cameras check MESH --cameras PATH [--images DIR] [--masks DIR] [--json]
 // (SPEC section 9): per camera the share of the mesh's vertices in front of
-// it, inside its photo and visible, and a warning when a pose looks like a
+// it, inside its photo, masked out (--masks) and visible, and a warning when a pose looks like a
 // convention error (bake/photo/camera_check.h); then, for a COLMAP model
 // with sparse points, whether it is in the mesh's frame (the figures of
 // bake/fit/model_alignment.h, and a warning when it is not or may not be).
@@ -29,7 +29,7 @@ namespace texbake::cli {
 namespace {
 
 struct CamerasArgs {
-  std::string mesh, cameras, images;
+  std::string mesh, cameras, images, masks;
   bool json = false;
   int threads = 0;
 };
@@ -51,12 +51,26 @@ int run_check(const CamerasArgs& a) {
       read_cameras(a.cameras, a.images, PhotoFolder::kNotNeeded, &notes);
   if (!photos) return report_error(photos.error());
   print_notes(notes);
+  if (!a.masks.empty()) {
+    std::vector<std::string> warnings;
+    if (Status s = find_masks(*photos, a.masks, "--masks", &warnings); !s) {
+      return report_error(s.error());
+    }
+    for (const std::string& w : warnings) std::fprintf(stderr, "texbake: warning: %s\n", w.c_str());
+  }
   RunOptions run;
   run.threads = a.threads;
   Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
   if (!mesh) return report_error(mesh.error());
   Expected<std::vector<CameraCheck>> checks = check_cameras(mesh->mesh, *photos, run);
-  if (!checks) return report_mesh_error(checks.error(), a.mesh);
+  if (!checks) {
+    // A mask file's error names it; others are the mesh's.
+    if (checks.error().message.rfind("the mask of camera ", 0) == 0) {
+      return report_error(checks.error());
+    }
+    return report_mesh_error(checks.error(), a.mesh);
+  }
+  const bool masks = !a.masks.empty();
   // The model's sparse points against the mesh (a COLMAP model with points3D).
   Expected<ModelAlignment> alignment = check_model_alignment(mesh->mesh, a.cameras, run);
   if (!alignment) return report_mesh_error(alignment.error(), a.mesh);
@@ -66,15 +80,25 @@ int run_check(const CamerasArgs& a) {
       j.push_back({{"image", c.name},
                    {"in_front", c.in_front},
                    {"inside", c.inside},
+                   {"masked", c.masked},
+                   {"has_mask", c.has_mask},
                    {"visible", c.visible},
                    {"warnings", c.warnings}});
     }
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    std::printf("%-32s %9s %9s %9s\n", "image", "in front", "inside", "visible");
+    // With --masks, a "masked" column: inside the photo but masked out (a
+    // photo without a mask file: "-").
+    if (masks) {
+      std::printf("%-32s %9s %9s %9s %9s\n", "image", "in front", "inside", "masked", "visible");
+    } else {
+      std::printf("%-32s %9s %9s %9s\n", "image", "in front", "inside", "visible");
+    }
     for (const CameraCheck& c : *checks) {
-      std::printf("%-32s %8.1f%% %8.1f%% %8.1f%%\n", c.name.c_str(), 100 * c.in_front,
-                  100 * c.inside, 100 * c.visible);
+      std::printf("%-32s %8.1f%% %8.1f%%", c.name.c_str(), 100 * c.in_front, 100 * c.inside);
+      if (masks && c.has_mask) std::printf(" %8.1f%%", 100 * c.masked);
+      if (masks && !c.has_mask) std::printf(" %9s", "-");
+      std::printf(" %8.1f%%\n", 100 * c.visible);
     }
   }
   if (!a.json && alignment->verdict != AlignmentVerdict::kNotMeasured) {
@@ -340,6 +364,11 @@ RunFunction add_cameras_command(CLI::App& app) {
   check->add_option("--images", args->images,
                     "the photos' folder (not needed: the check reads no photo; accepted as in "
                     "bake --cameras)");
+  check->add_option("--masks", args->masks,
+                    "the photos' masks in COLMAP's convention (DIR/<image name>.png, 0 = masked "
+                    "out, as bake --masks): the visible share counts only vertices on unmasked "
+                    "pixels, and a column 'masked' gives the share inside the photo but masked "
+                    "out");
   check->add_flag("--json", args->json, "print the table as JSON");
   check->add_option("--threads", args->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));

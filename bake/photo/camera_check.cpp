@@ -1,7 +1,9 @@
 #include "bake/photo/camera_check.h"
 
 #include <algorithm>
+#include <optional>
 
+#include "bake/photo/photo_view.h"
 #include "bake/photo/segments.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
@@ -58,31 +60,51 @@ Expected<std::vector<CameraCheck>> check_camera_poses(const MeshData& mesh,
     const CameraProjector& camera = photo.camera;
     CameraCheck check;
     check.name = photo.name;
-    std::vector<std::array<std::size_t, 3>> counts(block_count(vertices.size(), kGrain), {0, 0, 0});
+    std::optional<Image> mask;
+    if (!photo.mask.empty()) {
+      Expected<Image> read = photo_detail::read_mask(photo);
+      if (!read) return read.error();
+      PhotoImage size{read->width, read->height, {}};
+      bool scaled = false;
+      if (Status s = photo_detail::check_mask_size(photo, size, scaled); !s) return s.error();
+      mask = std::move(read).value();
+      check.has_mask = true;
+    }
+    const ImageView mask_view = mask ? mask->view() : ImageView{};
+    // in front, inside, masked, visible
+    std::vector<std::array<std::size_t, 4>> counts(block_count(vertices.size(), kGrain),
+                                                   {0, 0, 0, 0});
     parallel_for_blocks(
         vertices.size(), kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
-          std::array<std::size_t, 3>& c = counts[block];
+          std::array<std::size_t, 4>& c = counts[block];
           std::vector<uint32_t> inside;
           for (std::size_t i = begin; i < end; ++i) {
             const Float3 p = mesh.positions[vertices[i]];
             const CameraProjection proj = camera.project({p.x, p.y, p.z});
             c[0] += proj.depth > 0;
-            if (proj.inside) inside.push_back(vertices[i]);
+            if (!proj.inside) continue;
+            ++c[1];
+            if (mask && !(photo_detail::mask_at(mask_view, true, proj.uv) > 0)) {
+              ++c[2];
+              continue;
+            }
+            inside.push_back(vertices[i]);
           }
-          c[1] = inside.size();
           SegmentScratch scratch;
           std::vector<uint8_t> occluded(inside.size(), 0);
           occluded_segments(*scene, offset, mesh, inside, camera.centre(), scratch,
                             occluded.data());
-          c[2] = static_cast<std::size_t>(std::count(occluded.begin(), occluded.end(), 0));
+          c[3] = static_cast<std::size_t>(std::count(occluded.begin(), occluded.end(), 0));
         });
-    std::array<std::size_t, 3> total{0, 0, 0};
+    std::array<std::size_t, 4> total{0, 0, 0, 0};
     for (const auto& c : counts) {
-      for (int k = 0; k < 3; ++k) total[k] += c[k];
+      for (int k = 0; k < 4; ++k) total[k] += c[k];
     }
+    mask.reset();
     check.in_front = total[0] / n;
     check.inside = total[1] / n;
-    check.visible = total[2] / n;
+    check.masked = total[2] / n;
+    check.visible = total[3] / n;
     if (check.inside < 0.5) {
       const CameraPose& pose = camera.spec().pose;
       // The inverse transform: X = R^T X_cam - R^T t read as world-to-camera.

@@ -55,6 +55,27 @@ void for_each_seen(const std::vector<uint64_t>& bits, std::size_t begin, std::si
   }
 }
 
+// A masked photo read again for its mask (stages 3 and 4), or none for an
+// unmasked one (whose mask is 1 everywhere). Errors: load_photo's (an
+// unreadable photo: stage 1 read it, so now an error).
+Expected<std::optional<PhotoImage>> read_for_mask(const Photo& photo, const PhotoReader& read,
+                                                  bool masked) {
+  if (!masked) return std::optional<PhotoImage>();
+  PhotoCameraStats scratch_stats;
+  std::vector<std::string> scratch_warnings;  // the vertex bake gave them
+  bool unreadable = false;
+  Expected<PhotoImage> image =
+      photo_detail::load_photo(photo, read, scratch_stats, scratch_warnings, unreadable);
+  if (!image) {
+    return unreadable ? photo_detail::unreadable_photo_error(photo, image.error()) : image.error();
+  }
+  return std::optional<PhotoImage>(std::move(image).value());
+}
+
+ImageView view_of(const std::optional<PhotoImage>& image) {
+  return image ? ImageView{image->width, image->height, image->pixels.data()} : ImageView{};
+}
+
 }  // namespace
 
 Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
@@ -136,6 +157,10 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   if (po.keep_points) blend.state.assign(ns, PhotoPoints::kNoView);
   for (std::size_t c = 0; c < photos.size(); ++c) {
     const CameraLook look(photos[c].camera, po.max_view_angle_deg);
+    const bool masked = result.cameras[c].masked;
+    Expected<std::optional<PhotoImage>> mask_image = read_for_mask(photos[c], read, masked);
+    if (!mask_image) return mask_image.error();
+    const ImageView mask_view = view_of(*mask_image);
     std::vector<uint64_t>& bits = seen_by[c];
     bits.assign(words, 0);
     std::vector<std::size_t> in_view(blocks, 0), visible(blocks, 0);
@@ -144,17 +169,21 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
       std::vector<Vec3> points;
       std::vector<SurfaceSample> surface;
       std::vector<CameraProjection> projections;
+      std::vector<float> mask;  // masked photos: the mask value per candidate
       SegmentScratch scratch;
       std::vector<uint8_t> occluded;
       for (std::size_t s = begin; s < end; ++s) {
         const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
         CameraProjection proj;
         if (!candidate(look, sp, proj)) continue;
+        const float m = photo_detail::mask_at(mask_view, masked, proj.uv);
+        if (!(m > 0)) continue;  // masked out: as if outside the photo
         if (po.keep_points) blend.state[s] = PhotoPoints::kInView;
         candidates.push_back(static_cast<uint32_t>(s));
         points.push_back(sp.p);
         surface.push_back(sp);
         projections.push_back(proj);
+        mask.push_back(m);
       }
       const std::size_t m = candidates.size();
       occluded.assign(m, 0);
@@ -168,9 +197,12 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
         const float q = look.quality(surface[i].p, surface[i].n, projections[i]);
         if (q > q_max[s]) {
           q_max[s] = q;
-          if (!best.empty()) best[s] = static_cast<uint32_t>(c);
+          if (!best.empty()) {
+            best[s] = static_cast<uint32_t>(c);
+            total[s] = mask[i];  // kBest: the weight sum is the best view's mask
+          }
         }
-        if (po.blend == PhotoBlend::kMean) total[s] += 1;
+        if (po.blend == PhotoBlend::kMean) total[s] += mask[i];
       }
       in_view[block] = m;
       visible[block] = seen;
@@ -183,20 +215,23 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   scene.reset();  // the BVH is not needed any more
   result.seconds_geometry = seconds_since(t0);
 
-  // 4. Weight sums.
+  // 4. Weight sums (kBest and kMean: stage 3's), a masked photo read again.
   t0 = Clock::now();
-  if (po.blend == PhotoBlend::kBest) {
-    for (std::size_t s = 0; s < ns; ++s) total[s] = q_max[s] > 0 ? 1.f : 0.f;
-  } else if (po.blend == PhotoBlend::kSoft) {
+  if (po.blend == PhotoBlend::kSoft) {
     for (std::size_t c = 0; c < photos.size(); ++c) {
       const CameraLook look(photos[c].camera, po.max_view_angle_deg);
+      const bool masked = result.cameras[c].masked;
+      Expected<std::optional<PhotoImage>> mask_image = read_for_mask(photos[c], read, masked);
+      if (!mask_image) return mask_image.error();
+      const ImageView mask_view = view_of(*mask_image);
       const std::vector<uint64_t>& bits = seen_by[c];
       parallel_for_blocks(ns, kBlock, [&](std::size_t, std::size_t begin, std::size_t end) {
         for_each_seen(bits, begin, end, [&](std::size_t s) {
           const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
           const CameraProjection proj = photos[c].camera.project(sp.p);
           total[s] += static_cast<float>(
-              blend_weight(PhotoBlend::kSoft, look.quality(sp.p, sp.n, proj), q_max[s], false));
+              blend_weight(PhotoBlend::kSoft, look.quality(sp.p, sp.n, proj), q_max[s], false) *
+              photo_detail::mask_at(mask_view, masked, proj.uv));
         });
       });
     }
@@ -218,6 +253,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
                         : image.error();
     }
     const ImageView view{image->width, image->height, image->pixels.data()};
+    const bool masked = result.cameras[c].masked;
     const CameraLook look(photo.camera, po.max_view_angle_deg);
     const std::vector<uint64_t>& bits = seen_by[c];
     const std::array<double, 3> gain = result.cameras[c].gain;
@@ -228,10 +264,11 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
         const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
         const CameraProjection proj = photo.camera.project(sp.p);
         const bool is_best = !best.empty() && best[s] == c;
-        const double w =
-            blend_weight(po.blend, look.quality(sp.p, sp.n, proj), q_max[s], is_best) / total[s];
+        // x: the colour and the mask value m (photo_view.h's sample_masked).
+        const Rgba x = photo_detail::sample_masked(view, masked, proj.uv);
+        const double w = blend_weight(po.blend, look.quality(sp.p, sp.n, proj), q_max[s], is_best) *
+                         x[3] / total[s];
         if (!(w > 0)) return;
-        const Rgba x = sample_bilinear(view, proj.uv, WrapMode::kClamp, WrapMode::kClamp);
         for (int ch = 0; ch < 3; ++ch) rgb[s][ch] += static_cast<float>(w * gain[ch] * x[ch]);
         if (!cosine.empty()) {
           cosine[s] += static_cast<float>(w * dot(sp.n, normalize(look.centre() - sp.p)));

@@ -14,16 +14,18 @@
 //  2. rasterise the layout: covered texels and their supersamples (triangle
 //     and barycentrics);
 //  3. geometry pass, per camera: each sample's point P and normal; cull
-//     (inside the photo, in front, within 75 degrees, and the face normal
-//     facing C), the segment P -> C traced (bake/photo/segments.h); per
-//     sample q_max (and the first camera reaching it, for kBest; the count
-//     of cameras, for kMean), and one bit per camera and sample saying the
-//     camera sees it, so no segment is traced twice;
-//  4. weight pass (kSoft only, no photo, no ray): per sample the sum W of
-//     its weights exp(-(1 - q / q_max) / 0.1);
+//     (inside the photo, in front, within 75 degrees, the face normal
+//     facing C, and not masked out: mask value m > 0, photo_bake.h
+//     "Masks"), the segment P -> C traced (bake/photo/segments.h); per
+//     sample q_max (and the first camera reaching it and its m, for kBest;
+//     the sum of the cameras' m, for kMean), and one bit per camera and
+//     sample saying the camera sees it, so no segment is traced twice;
+//  4. weight pass (kSoft only, no ray): per sample the sum W of its
+//     weights m exp(-(1 - q / q_max) / 0.1);
 //  5. colour pass, per photo: for every sample it sees, w / W times its
-//     gain times the bilinear sample of the linearised photo is added to
-//     the sample's colour (and w / W to the camera's weight share);
+//     gain times the sample of the linearised photo (the alpha-weighted
+//     bilinear mean, photo_view.h's sample_masked) is added to the
+//     sample's colour (and w / W to the camera's weight share);
 //  6. texel = the plain mean of its samples in linear light, encoded to
 //     sRGB (alpha 1); under --occluded R,G,B a texel all of whose samples
 //     are unseen is the colour exactly, one partly so averages it (decoded)
@@ -38,6 +40,11 @@
 // sample's q is the vertex bake's. The face normal adds SPEC's back-face
 // rule (face normal . d > 0), which the smooth normal alone can miss at
 // creases.
+//
+// A masked photo (stats.masked from stage 1) is read again for its mask in
+// stage 3 and, for kSoft, stage 4: four reads instead of two (a photo
+// without alpha and mask file is read twice), so that only one photo is
+// ever in memory; no per-camera mask values are kept.
 //
 // Memory: the samples (12 bytes each), per sample q_max, W and the colour
 // (20 bytes; kBest 4 more), one bit per camera and sample, the atlas, the
@@ -107,7 +114,9 @@ struct PhotoAtlasBakeResult {
 // the wrong size, no photos, ...), rasterize_atlas's (bad size or samples,
 // no UVs, bad UVs), kInvalidArgument for a bad padding, kInternal (Embree).
 // `reader` (default: mesh_io's read_image) is called twice per photo, in
-// photo order: by stage 1, then by stage 5.
+// photo order: by stage 1, then by stage 5; a masked photo's also by stage
+// 3 and (kSoft) stage 4. Errors also: a mask file's (read_mask's, or of
+// another size than its photo).
 Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
                                                       const std::vector<Photo>& photos,
                                                       const PhotoAtlasBakeOptions& options,

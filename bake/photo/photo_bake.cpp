@@ -31,6 +31,7 @@ struct Sample {
   uint32_t camera = 0;
   float quality = 0;
   std::array<float, 3> rgb{};  // linear light, before the gain
+  float mask = 1;              // the photo's mask value there, in (0, 1]
 };
 
 // Exposure gains of one channel, solved in the log domain so that they are
@@ -44,14 +45,18 @@ struct Sample {
 // and biased weakly connected photos. Pairs where either value is below
 // kMinGainSample (near black: 8-bit noise dominates the ratio) are left out.
 // lambda is weak (1e-4 of the mean diagonal): it only decides photos that
-// share no vertex with another. Solved through the KKT system, of the photo
-// count's size.
+// share no vertex with another. Solved through the KKT system, of the size
+// of the photo count. A pair weighs the product of its two mask values (1
+// for photos without masks). Only the photos that see some vertex take
+// part (`index`: a camera's unknown, -1 for the others, which keep gain 1):
+// a photo masked out wholly changes no other photo's gain.
 constexpr double kMinGainSample = 0.003;  // linear light (about 8-bit level 15 of sRGB)
 
 Expected<std::vector<double>> solve_gains(const std::vector<uint32_t>& start,
-                                          const std::vector<Sample>& samples, std::size_t cameras,
-                                          int channel) {
-  const auto k = static_cast<Eigen::Index>(cameras);
+                                          const std::vector<Sample>& samples,
+                                          const std::vector<int>& index, int channel) {
+  const auto k = static_cast<Eigen::Index>(
+      std::count_if(index.begin(), index.end(), [](int i) { return i >= 0; }));
   Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k + 1, k + 1);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
   for (std::size_t v = 0; v + 1 < start.size(); ++v) {
@@ -62,10 +67,11 @@ Expected<std::vector<double>> solve_gains(const std::vector<uint32_t>& start,
         const double xb = samples[j].rgb[channel];
         if (!(xb >= kMinGainSample)) continue;
         const double d = std::log(xa) - std::log(xb);
-        const Eigen::Index a = samples[i].camera, b = samples[j].camera;
-        m(a, a) += 1, m(b, b) += 1;
-        m(a, b) -= 1, m(b, a) -= 1;
-        rhs[a] -= d, rhs[b] += d;
+        const double w = static_cast<double>(samples[i].mask) * samples[j].mask;
+        const Eigen::Index a = index[samples[i].camera], b = index[samples[j].camera];
+        m(a, a) += w, m(b, b) += w;
+        m(a, b) -= w, m(b, a) -= w;
+        rhs[a] -= w * d, rhs[b] += w * d;
       }
     }
   }
@@ -77,13 +83,14 @@ Expected<std::vector<double>> solve_gains(const std::vector<uint32_t>& start,
   }
   rhs[k] = 0;
   const Eigen::VectorXd l = m.fullPivLu().solve(rhs);
-  std::vector<double> gains(cameras);
-  for (Eigen::Index a = 0; a < k; ++a) {
-    const double g = std::exp(l[a]);
+  std::vector<double> gains(index.size(), 1.0);
+  for (std::size_t c = 0; c < index.size(); ++c) {
+    if (index[c] < 0) continue;
+    const double g = std::exp(l[index[c]]);
     if (!(std::isfinite(g) && g > 0)) {
       return make_error(ErrorCode::kInternal, "exposure gains: the least-squares solve failed");
     }
-    gains[static_cast<std::size_t>(a)] = g;
+    gains[c] = g;
   }
   return gains;
 }
@@ -185,6 +192,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   std::vector<std::vector<std::pair<uint32_t, Sample>>> seen_by(photos.size());
   std::vector<float> quality(n);
   std::vector<std::array<float, 3>> rgb(n);
+  std::vector<float> mask_value;  // n, once a photo has a mask
   PhotoPoints& points = result.points;
   if (options.keep_points) points.state.assign(n, PhotoPoints::kNoView);
   // The photos used (readable), in order: samples and stats are numbered
@@ -211,6 +219,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     result.cameras.push_back(std::move(loaded));
     PhotoCameraStats& stats = result.cameras.back();
     const ImageView view{image->width, image->height, image->pixels.data()};
+    const bool masked = stats.masked;
+    if (masked && mask_value.empty()) mask_value.assign(n, 1.f);
     const CameraLook look(camera, options.max_view_angle_deg);
     const Vec3 centre = look.centre();
     std::vector<std::size_t> in_view_chunk(block_count(n, kGrain), 0),
@@ -227,6 +237,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
         CameraProjection proj;
         if (!look.candidate(p, nrm, proj)) continue;
+        // Masked out: as if outside the photo (no segment traced).
+        if (masked && !(photo_detail::mask_at(view, true, proj.uv) > 0)) continue;
         if (options.keep_points) points.state[v] = PhotoPoints::kInView;
         candidates.push_back(static_cast<uint32_t>(v));
         projections.push_back(proj);
@@ -243,9 +255,10 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
         const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
         const float q = look.quality(p, nrm, proj);
-        const Rgba s = sample_bilinear(view, proj.uv, WrapMode::kClamp, WrapMode::kClamp);
+        const Rgba s = photo_detail::sample_masked(view, masked, proj.uv);
         quality[v] = q;
         rgb[v] = {s[0], s[1], s[2]};
+        if (masked) mask_value[v] = s[3];
       }
       in_view_chunk[block] = m;
       visible_chunk[block] = visible;
@@ -258,12 +271,13 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     list.reserve(stats.visible);
     for (std::size_t v = 0; v < n; ++v) {
       if (quality[v] > 0)
-        list.push_back(
-            {static_cast<uint32_t>(v), Sample{static_cast<uint32_t>(c), quality[v], rgb[v]}});
+        list.push_back({static_cast<uint32_t>(v), Sample{static_cast<uint32_t>(c), quality[v],
+                                                         rgb[v], masked ? mask_value[v] : 1.f}});
     }
   }
   quality = {};
   rgb = {};
+  mask_value = {};
   result.seconds_photos = seconds_since(start);
   if (used.empty()) return photo_detail::no_usable_photo_error(result.skipped);
   const std::size_t cameras = used.size();
@@ -285,11 +299,16 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     }
   }
 
-  // Exposure gains.
+  // Exposure gains, over the photos that see some vertex.
   std::vector<std::array<double, 3>> gains(cameras, {1, 1, 1});
-  if (options.exposure == ExposureMode::kGain && cameras > 1) {
+  std::vector<int> index(cameras, -1);
+  int active = 0;
+  for (std::size_t c = 0; c < cameras; ++c) {
+    if (result.cameras[c].visible > 0) index[c] = active++;
+  }
+  if (options.exposure == ExposureMode::kGain && active > 1) {
     for (int ch = 0; ch < 3; ++ch) {
-      Expected<std::vector<double>> g = solve_gains(first, samples, cameras, ch);
+      Expected<std::vector<double>> g = solve_gains(first, samples, index, ch);
       if (!g) return g.error();
       for (std::size_t c = 0; c < cameras; ++c) gains[c][ch] = (*g)[c];
     }
@@ -327,7 +346,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
       weight.assign(s1 - s0, 0.0);
       for (uint32_t i = s0; i < s1; ++i) {
         weight[i - s0] =
-            blend_weight(options.blend, samples[i].quality, static_cast<float>(q_max), i == best);
+            blend_weight(options.blend, samples[i].quality, static_cast<float>(q_max), i == best) *
+            samples[i].mask;
       }
       double total = 0;
       std::array<double, 3> sum{0, 0, 0};

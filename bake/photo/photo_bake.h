@@ -21,8 +21,11 @@
 // log g_a + log c_a = log g_b + log c_b, pairs with a near-black value left
 // out, with the gains' geometric mean fixed at 1 and a weak prior towards 1
 // for photos that share no vertex: a photo scaled by s gets 1 / s times its
-// gain); the blend (soft: weights exp(-(1 - q / q_max) / 0.1),
-// best: the largest q, mean: equal); unseen vertices follow `occluded`
+// gain; a photo that sees no vertex takes no part and keeps gain 1); the
+// blend (soft: weights exp(-(1 - q / q_max) / 0.1), best: the largest q,
+// mean: equal), each weight times the sample's mask value (see "Masks"
+// below; a pair in the gain solve weighs the product of its two mask
+// values); unseen vertices follow `occluded`
 // (the harmonic fill of bake/vertex/occlusion_fill.h by default). Results do
 // not depend on the thread count. The cull, quality, weights and photo
 // reading are bake/photo/photo_view.h's, shared with the atlas target
@@ -52,7 +55,23 @@ struct Photo {
   std::string name;  // for messages and the report (COLMAP's image name)
   CameraProjector camera;
   std::filesystem::path path;  // the photo's file
+  // Its mask file in COLMAP's convention (--masks DIR: DIR/<name>.png; see
+  // "Masks" below), or empty: the photo's own alpha only.
+  std::filesystem::path mask;
 };
+
+// Masks (SPEC section 9). A photo's alpha channel is its mask: each sample's
+// weight is multiplied by the alpha bilinearly interpolated at the camera's
+// (u, v), and its colour is the alpha-weighted bilinear mean of the four
+// texels (the photo is premultiplied by alpha in linear light, sampled, and
+// divided by the sampled alpha), so masked-out texels never bleed into the
+// colour. Alpha 0 there: the photo does not see the point at all (not in
+// view, not visible, not in the blend, q_max or the exposure solve). A mask
+// file (Photo::mask) follows COLMAP's rule, binary: a pixel whose value is 0
+// (every colour channel 0) is masked out, any other value keeps the pixel
+// whole (a grey 128 counts as 255, as in COLMAP's feature extraction); it
+// multiplies the photo's own alpha. It must have the photo's size. A photo
+// without alpha and mask is sampled exactly as before masks existed.
 
 enum class PhotoBlend { kSoft, kBest, kMean };
 enum class ExposureMode { kGain, kNone };
@@ -119,6 +138,10 @@ struct PhotoCameraStats {
   // another photo, and its mean relative deviation from their consensus.
   std::size_t shared = 0;
   double deviation = 0;
+  // The photo has a mask: its alpha (times its mask file's) is below 1
+  // somewhere; masked_share is the share of its pixels at 0 (masked out).
+  bool masked = false;
+  double masked_share = 0;
 };
 
 // How well the photos agree on the mesh, after the exposure gains (SPEC
@@ -169,7 +192,10 @@ using PhotoReader = std::function<Expected<PhotoImage>(const Photo& photo)>;
 // photo of camera NAME: " and its reader's error; else it is left out with
 // a warning), every photo left out (kIo "no usable photo: ..."), a photo
 // whose size is neither the camera's nor of the same aspect (kParse, naming
-// the photo and both sizes), no photos (kInvalidArgument), kInternal
+// the photo and both sizes), a mask file that cannot be read or is of
+// another size than its photo ("the mask of camera NAME: " naming the file;
+// always an error: the photo without its mask would bake what the mask
+// hides), no photos (kInvalidArgument), kInternal
 // (Embree or the fill). A reader's kCancelled is returned as is. A photo of the same aspect and
 // another size is used with the camera's (u, v) (which do not depend on the resolution) and a
 // warning.

@@ -12,7 +12,9 @@
 
 #include "bake/photo/photo_bake.h"
 #include "mapping/camera.h"
+#include "mapping/sample.h"
 #include "mapping/vec.h"
+#include "mesh_io/image_io.h"
 
 namespace texbake::photo_detail {
 
@@ -26,11 +28,46 @@ Expected<PhotoImage> read_photo_file(const Photo& photo);
 // at another size: then stats.scaled and a warning), records its size in
 // `stats` and linearises an sRGB photo in place (so that bilinear
 // interpolation happens in linear light too; a linear photo is used as is).
-// Errors: the reader's (then `unreadable` is set, unless it is kCancelled);
-// kParse for a size of another aspect.
+// Its mask (photo_bake.h, "Masks"): alpha clamped to [0, 1] and multiplied
+// by its mask file's (read_mask); when some alpha is below 1, stats.masked
+// and masked_share are set and R, G, B are premultiplied by alpha (sample
+// with sample_masked). Errors: the reader's (then `unreadable` is set,
+// unless it is kCancelled); kParse for a size of another aspect; the mask
+// file's (read_mask's, and kParse for a mask of another size than the
+// photo's, naming both), which start "the mask of camera NAME: ".
 Expected<PhotoImage> load_photo(const Photo& photo, const PhotoReader& read,
                                 PhotoCameraStats& stats, std::vector<std::string>& warnings,
                                 bool& unreadable);
+
+// The mask file of `photo` (Photo::mask) by COLMAP's rule: alpha 0 where
+// the file's value is 0 (R, G and B all 0), 1 elsewhere; R, G, B as read.
+// Errors: read_image's, prefixed "the mask of camera NAME: ".
+Expected<Image> read_mask(const Photo& photo);
+
+// A mask checked against its camera without its photo (cameras check): the
+// camera's size, or its aspect at another size (then `scaled`); else kParse
+// naming the mask file and both sizes.
+Status check_mask_size(const Photo& photo, const PhotoImage& mask, bool& scaled);
+
+// A photo's sample at `uv` as load_photo left it: the colour in linear light
+// and its mask value m (alpha bilinearly interpolated). For a masked photo
+// (premultiplied) the colour is the premultiplied sample divided by m, the
+// alpha-weighted mean of the four texels; m = 0: no colour (the point is
+// masked out). An unmasked photo: the plain bilinear sample and m = 1.
+inline Rgba sample_masked(const ImageView& view, bool masked, UV uv) {
+  Rgba s = sample_bilinear(view, uv, WrapMode::kClamp, WrapMode::kClamp);
+  if (!masked) {
+    s[3] = 1;
+  } else if (s[3] > 0) {
+    for (int ch = 0; ch < 3; ++ch) s[ch] /= s[3];
+  }
+  return s;
+}
+
+// The mask value alone (sample_masked's m).
+inline float mask_at(const ImageView& view, bool masked, UV uv) {
+  return masked ? sample_bilinear(view, uv, WrapMode::kClamp, WrapMode::kClamp)[3] : 1.f;
+}
 
 // The error of an unreadable photo under PhotoBakeOptions::strict_photos.
 Error unreadable_photo_error(const Photo& photo, const Error& read);

@@ -27,20 +27,30 @@ PhotoBakeOptions photo_options(const py::handle& blend, const py::handle& exposu
   return o;
 }
 
-// The photos of a camera model or list (read_cameras), or of one camera
-// proxy file and its photo (read_camera_proxy; `options` then get
+// The photos of a camera model or list (read_cameras) with their masks
+// (find_masks, when `masks` is not None; its warnings in `warnings`), or of
+// one camera proxy file and its photo (read_camera_proxy; `options` then get
 // camera_proxy_options).
-std::vector<Photo> read_photos(const py::handle& cameras, const py::handle& images) {
+struct ReadPhotos {
+  std::vector<Photo> photos;
+  std::vector<std::string> warnings;
+};
+ReadPhotos read_photos(const py::handle& cameras, const py::handle& images,
+                       const py::handle& masks) {
   const std::filesystem::path c = path_arg(cameras, "cameras");
   const std::filesystem::path i =
       images.is_none() ? std::filesystem::path{} : path_arg(images, "images");
+  const std::filesystem::path m =
+      masks.is_none() ? std::filesystem::path{} : path_arg(masks, "masks");
   py::gil_scoped_release release;
-  return check(read_cameras(c, i));
+  ReadPhotos out{check(read_cameras(c, i)), {}};
+  if (!m.empty()) check(find_masks(out.photos, m, "masks", &out.warnings));
+  return out;
 }
-std::vector<Photo> read_camera(const py::handle& camera, const py::handle& photo) {
+ReadPhotos read_camera(const py::handle& camera, const py::handle& photo) {
   const std::filesystem::path c = path_arg(camera, "camera"), p = path_arg(photo, "photo");
   py::gil_scoped_release release;
-  return check(read_camera_proxy(c, p));
+  return {check(read_camera_proxy(c, p)), {}};
 }
 
 // PhotoConsistency, as the report's "photo_agreement".
@@ -53,25 +63,29 @@ py::dict consistency_dict(const PhotoConsistency& c) {
   return d;
 }
 
-py::tuple vertex_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& photos,
+py::tuple vertex_from_photos(const LoadedMesh& mesh, const ReadPhotos& photos,
                              const PhotoBakeOptions& o, py::handle threads, py::object progress) {
   PyRun run(threads, std::move(progress));
   PhotoColors baked = run_released<PhotoColors>(run, [&](const RunOptions& r) {
-    return bake_vertex_colors_from_photos(mesh.mesh, photos, o, r);
+    return bake_vertex_colors_from_photos(mesh.mesh, photos.photos, o, r);
   });
+  std::vector<std::string>& warnings = baked.stats.warnings;
+  warnings.insert(warnings.begin(), photos.warnings.begin(), photos.warnings.end());
   py::dict stats = bake_stats(baked.stats, ReportSource::kPhotos, /*atlas=*/false);
   stats["photos_skipped"] = skipped_list(baked.skipped);
   stats["photo_agreement"] = consistency_dict(baked.consistency);
   return py::make_tuple(colors_array(baked.colors), stats, cameras_list(baked.cameras));
 }
 
-py::tuple atlas_from_photos(const LoadedMesh& mesh, const std::vector<Photo>& photos,
+py::tuple atlas_from_photos(const LoadedMesh& mesh, const ReadPhotos& photos,
                             const PhotoBakeOptions& o, const AtlasOptions& a, py::handle threads,
                             py::object progress) {
   PyRun run(threads, std::move(progress));
   PhotoAtlas baked = run_released<PhotoAtlas>(run, [&](const RunOptions& r) {
-    return bake_atlas_texture_from_photos(mesh.mesh, photos, o, a, r);
+    return bake_atlas_texture_from_photos(mesh.mesh, photos.photos, o, a, r);
   });
+  std::vector<std::string>& warnings = baked.atlas.stats.warnings;
+  warnings.insert(warnings.begin(), photos.warnings.begin(), photos.warnings.end());
   py::list cameras = cameras_list(baked.cameras);
   const PhotoConsistency consistency = baked.consistency;
   py::object atlas =
@@ -88,20 +102,21 @@ AtlasOptions photo_atlas_options(py::handle uv, py::handle size, py::handle samp
 
 void bind_photo_bakes(py::module_& m) {
   m.def("bake_vertex_from_photos", [](const LoadedMesh& mesh, py::handle cameras, py::handle images,
-                                      py::handle blend, py::handle exposure, py::handle occluded,
-                                      py::handle colorspace, bool strict_photos, py::handle threads,
-                                      py::object progress) {
+                                      py::handle masks, py::handle blend, py::handle exposure,
+                                      py::handle occluded, py::handle colorspace,
+                                      bool strict_photos, py::handle threads, py::object progress) {
     const PhotoBakeOptions o = photo_options(blend, exposure, occluded, colorspace, strict_photos);
-    return vertex_from_photos(mesh, read_photos(cameras, images), o, threads, std::move(progress));
+    return vertex_from_photos(mesh, read_photos(cameras, images, masks), o, threads,
+                              std::move(progress));
   });
   m.def("bake_atlas_from_photos", [](const LoadedMesh& mesh, py::handle cameras, py::handle images,
-                                     py::handle blend, py::handle exposure, py::handle occluded,
-                                     py::handle colorspace, bool strict_photos, py::handle uv,
-                                     py::handle size, py::handle samples, py::handle padding,
-                                     py::handle threads, py::object progress) {
+                                     py::handle masks, py::handle blend, py::handle exposure,
+                                     py::handle occluded, py::handle colorspace, bool strict_photos,
+                                     py::handle uv, py::handle size, py::handle samples,
+                                     py::handle padding, py::handle threads, py::object progress) {
     const PhotoBakeOptions o = photo_options(blend, exposure, occluded, colorspace, strict_photos);
     const AtlasOptions a = photo_atlas_options(uv, size, samples, padding);
-    return atlas_from_photos(mesh, read_photos(cameras, images), o, a, threads,
+    return atlas_from_photos(mesh, read_photos(cameras, images, masks), o, a, threads,
                              std::move(progress));
   });
   m.def("bake_vertex_from_camera", [](const LoadedMesh& mesh, py::handle camera, py::handle photo,
@@ -170,17 +185,19 @@ void bind_layer_bakes(py::module_& m) {
 }
 
 py::list camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle images,
-                       py::handle threads) {
-  const std::vector<Photo> photos = read_photos(cameras, images);
+                       py::handle masks, py::handle threads) {
+  const ReadPhotos photos = read_photos(cameras, images, masks);
   PyRun run(threads, py::none());
   const std::vector<CameraCheck> checks = run_released<std::vector<CameraCheck>>(
-      run, [&](const RunOptions& r) { return check_cameras(mesh.mesh, photos, r); });
+      run, [&](const RunOptions& r) { return check_cameras(mesh.mesh, photos.photos, r); });
   py::list out;
   for (const CameraCheck& c : checks) {
     py::dict d;
     d["image"] = c.name;
     d["in_front"] = c.in_front;
     d["inside"] = c.inside;
+    d["masked"] = c.masked;
+    d["has_mask"] = c.has_mask;
     d["visible"] = c.visible;
     d["warnings"] = c.warnings;
     out.append(d);

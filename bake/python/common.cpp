@@ -447,6 +447,7 @@ py::list cameras_list(const std::vector<PhotoCameraStats>& cameras) {
     py::dict d;
     d["image"] = c.name;
     d["photo"] = py::make_tuple(c.photo_width, c.photo_height);
+    d["masked"] = c.masked_share;
     d["in_view"] = c.in_view;
     d["visible"] = c.visible;
     d["weight_share"] = c.weight_share;

@@ -311,11 +311,13 @@ class JobRun {
   // ---- Photographs ----
 
   // A bake error about a photo (bake/photo/photo_view.h: "the photo of
-  // camera ...", "no usable photo: ...") names the photo; other input
-  // errors are the mesh's.
+  // camera ...", "the mask of camera ...", "no usable photo: ...") names the
+  // photo; other input errors are the mesh's.
   Error photo_error(const Error& error) const {
     const std::string& m = error.message;
-    if (m.rfind("the photo of camera ", 0) == 0 || m.rfind("no usable photo", 0) == 0) return error;
+    if (m.rfind("the photo of camera ", 0) == 0 || m.rfind("the mask of camera ", 0) == 0 ||
+        m.rfind("no usable photo", 0) == 0)
+      return error;
     return mesh_error(error);
   }
 
@@ -363,6 +365,11 @@ class JobRun {
     if (!photos) return photos.error();
     if (job_.on_note) {
       for (const std::string& n : notes) job_.on_note(n);
+    }
+    if (!job_.masks.empty()) {
+      std::vector<std::string> mask_warnings;
+      if (Status s = find_masks(*photos, job_.masks, "--masks", &mask_warnings); !s) return s;
+      for (const std::string& w : mask_warnings) warn(w);
     }
     Expected<Held<LoadedMesh>> mesh = read_job_mesh();
     if (!mesh) return mesh.error();
@@ -415,6 +422,13 @@ class JobRun {
 
   // ---- Layers ----
 
+  // A layers bake's error about one layer ("layers[i]...": its files, its
+  // cameras' model, photos or masks) names that layer; others are the mesh's.
+  Error layer_error(const Error& error) const {
+    if (error.message.rfind("layers[", 0) == 0) return error;
+    return mesh_error(error);
+  }
+
   Status run_layers() {
     if (Status s = check_files(); !s) return s;
     auto stage = Clock::now();
@@ -449,7 +463,7 @@ class JobRun {
       }
       Expected<LayerAtlas> baked =
           bake_atlas_texture_from_layers(mesh->get().mesh, *spec, options, job_.atlas, run);
-      if (!baked) return mesh_error(baked.error());
+      if (!baked) return layer_error(baked.error());
       for (const std::string& w : baked->atlas.stats.warnings) warn(w);
       result_.stats = baked->atlas.stats;
       if (Status s = write_atlas_set(baked->atlas,
@@ -470,7 +484,7 @@ class JobRun {
     }
     Expected<LayerColors> baked =
         bake_vertex_colors_from_layers(mesh->get().mesh, *spec, options, run);
-    if (!baked) return mesh_error(baked.error());
+    if (!baked) return layer_error(baked.error());
     for (const std::string& w : baked->stats.warnings) warn(w);
     result_.stats = baked->stats;
     if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,

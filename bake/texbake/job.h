@@ -86,8 +86,10 @@ struct Job {
   ParamNaming naming = ParamNaming::kKey;
 
   // Or calibrated photographs (SPEC section 9): a COLMAP model folder or a
-  // JSON camera list, and the photos' folder ("": its default) ...
-  std::filesystem::path cameras, images;
+  // JSON camera list, and the photos' folder ("": its default) and their
+  // masks' folder (COLMAP's convention, find_masks; "": none but the
+  // photos' own alpha) ...
+  std::filesystem::path cameras, images, masks;
   // ... or one photo (`texture`) through the camera of a camera proxy_file.
   std::optional<Photo> photo;
   PhotoBakeOptions photo_options;  // photo bakes: blend, exposure, occluded, colour space, strict

@@ -67,7 +67,7 @@ void append(std::vector<NamedFile>& files, std::vector<NamedFile> more) {
 }  // namespace
 
 std::vector<NamedFile> camera_files(const fs::path& cameras, const fs::path& images,
-                                    const std::string& name) {
+                                    const std::string& name, const fs::path& masks) {
   std::vector<NamedFile> files;
   if (cameras.empty()) return files;
   std::error_code ec;
@@ -85,6 +85,11 @@ std::vector<NamedFile> camera_files(const fs::path& cameras, const fs::path& ima
   }
   if (Expected<std::vector<Photo>> photos = read_cameras(cameras, images)) {
     for (const Photo& photo : *photos) add(files, "a photo of " + name, photo.path);
+    if (!masks.empty()) {
+      for (const Photo& photo : *photos) {
+        add(files, "the mask of a photo of " + name, mask_file(masks, photo.name));
+      }
+    }
   }
   return files;
 }
@@ -101,7 +106,7 @@ std::vector<NamedFile> layers_files(const fs::path& layers) {
     add(files, key + ".proxy_file", layer.proxy_file);
     add(files, key + ".texture", layer.texture);
     add(files, key + ".mask", layer.mask);
-    append(files, camera_files(layer.cameras, layer.images, key + ".cameras"));
+    append(files, camera_files(layer.cameras, layer.images, key + ".cameras", layer.masks));
   }
   return files;
 }
@@ -129,7 +134,7 @@ std::vector<NamedFile> job_inputs(const JobFileNames& job) {
   for (const fs::path& named : mesh_named_files(job.mesh)) add(files, "a file MESH names:", named);
   add(files, "--texture", job.texture);
   add(files, "--proxy-file", job.proxy_file);
-  append(files, camera_files(job.cameras, job.images, "--cameras"));
+  append(files, camera_files(job.cameras, job.images, "--cameras", job.masks));
   append(files, layers_files(job.layers));
   add(files, "JOBS", job.manifest);
   return files;

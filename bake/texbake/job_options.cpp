@@ -119,6 +119,10 @@ const JobOption kOtherRows[] = {
     {"images", "--images", "", T::kPath, "DIR", "images/ beside sparse/", "", kPhotos,
      "--cameras: the photos' folder (default: a COLMAP workspace's images/ beside sparse/, or "
      "the camera file's folder)"},
+    {"masks", "--masks", "", T::kPath, "DIR", "", "", kPhotos,
+     "--cameras: the photos' masks in COLMAP's convention: DIR/<image name>.png (e.g. "
+     "DIR/IMG_1.jpg.png, or DIR/IMG_1.png), 0 = masked out, any other value kept; a photo "
+     "without a mask file is used whole (warning). A photo's own alpha always weighs its samples"},
     {"blend", "--blend", "", T::kChoice, "soft|best|mean", "soft", "soft|best|mean", kPhotos,
      "--cameras: soft (weights favouring the best views, default), best (one photo per point) "
      "or mean"},
@@ -176,7 +180,7 @@ struct KeywordOrColor {
 // no default is written here: the values below are placeholders.
 struct Parsed {
   std::map<std::string, std::string, std::less<>> given;  // key -> text (flags: true only)
-  std::string mesh, texture, output, report, layers, cameras, images;
+  std::string mesh, texture, output, report, layers, cameras, images, masks;
   GeometryFlags geometry;
   std::string target;
   int size = 0;
@@ -251,6 +255,7 @@ Status parse_option(const JobOption& o, const std::string& text, Parsed& p) {
   if (k == "layers") p.layers = text;
   if (k == "cameras") p.cameras = text;
   if (k == "images") p.images = text;
+  if (k == "masks") p.masks = text;
   if (k == "target") {
     if (text != "vertex" && text != "atlas") {
       static const char* const kNames[] = {"vertex", "atlas"};
@@ -561,13 +566,14 @@ Expected<Job> photos_job(const Parsed& p, bool atlas, const CameraProjector* cam
   if (camera) {
     job.proxy_file = *p.geometry.proxy_file;
     job.texture = p.texture;
-    job.photo = Photo{fs::path(p.texture).filename().string(), *camera, p.texture};
+    job.photo = Photo{fs::path(p.texture).filename().string(), *camera, p.texture, {}};
     options.exposure = ExposureMode::kNone;  // one photo: nothing to balance
     options.strict_photos = true;            // the texture itself: never left out
     options.color_space = p.texture_colorspace;
   } else {
     job.cameras = p.cameras;
     job.images = p.images;
+    job.masks = p.masks;
     job.alignment_check = !p.no_alignment_check;
     options.color_space = p.texture_colorspace;
   }
@@ -730,6 +736,7 @@ JobFileNames job_file_names(const Job& job) {
   f.proxy_file = job.proxy_file;
   f.cameras = job.cameras;
   f.images = job.images;
+  f.masks = job.masks;
   f.layers = job.layers;
   f.output = job.output;
   f.atlas = job.target == JobTarget::kAtlas;

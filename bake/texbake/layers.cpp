@@ -65,17 +65,23 @@ std::string cameras_name(const std::filesystem::path& cameras) {
   return numbered && !parent.empty() ? (parent / leaf).generic_string() : leaf;
 }
 
-// The photos of every "cameras" layer (by layer index; empty for the others).
-Expected<std::vector<std::vector<Photo>>> read_layer_cameras(const LayersSpec& spec) {
+// The photos of every "cameras" layer (by layer index; empty for the
+// others), with their "masks" (find_masks; its warnings into `warnings`).
+Expected<std::vector<std::vector<Photo>>> read_layer_cameras(const LayersSpec& spec,
+                                                             std::vector<std::string>& warnings) {
   std::vector<std::vector<Photo>> photos(spec.layers.size());
   for (std::size_t i = 0; i < spec.layers.size(); ++i) {
     const LayerSpec& l = spec.layers[i];
     if (l.cameras.empty()) continue;
+    const std::string key = "layers[" + std::to_string(i) + "]";
     Expected<std::vector<Photo>> read = read_cameras(l.cameras, l.images);
     if (!read) {
       Error e = read.error();
-      e.message = "layers[" + std::to_string(i) + "]: " + e.message;
+      e.message = key + ": " + e.message;
       return e;
+    }
+    if (!l.masks.empty()) {
+      if (Status s = find_masks(*read, l.masks, key + ".masks", &warnings); !s) return s.error();
     }
     photos[i] = std::move(read).value();
   }
@@ -194,12 +200,14 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     progress.start("layers", spec.layers.size());
     // The images stay alive for the bake: every layer's texture and mask.
     std::vector<Image> images;
-    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec);
+    std::vector<std::string> mask_warnings;
+    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec, mask_warnings);
     if (!photos) return photos.error();
     Expected<std::vector<LayerInput>> inputs =
         read_layer_inputs(spec, progress, images, options.cache_mb);
     if (!inputs) return inputs.error();
     LayerColors out;
+    out.stats.warnings = std::move(mask_warnings);
     // "cameras" layers: the photo bake's blend per vertex.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);
@@ -285,7 +293,8 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
   return detail::run_call<LayerAtlas>(run, [&]() -> Expected<LayerAtlas> {
     progress.start("layers", spec.layers.size());
     std::vector<Image> images;
-    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec);
+    std::vector<std::string> mask_warnings;
+    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec, mask_warnings);
     if (!photos) return photos.error();
     Expected<std::vector<LayerInput>> inputs =
         read_layer_inputs(spec, progress, images, options.cache_mb);
@@ -295,6 +304,8 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     if (Status s = detail::lay_out_atlas(mesh, nullptr, resolved, progress, out.atlas); !s) {
       return s.error();
     }
+    std::vector<std::string>& warnings = out.atlas.stats.warnings;
+    warnings.insert(warnings.begin(), mask_warnings.begin(), mask_warnings.end());
     // "cameras" layers: the photo atlas bake's blend per vertex and sample.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);

@@ -67,7 +67,7 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
       }
     }
     for (ColmapImage& image : *model) {
-      photos.push_back({image.name, std::move(image.camera), folder / image.name});
+      photos.push_back({image.name, std::move(image.camera), folder / image.name, {}});
     }
   } else {
     Expected<CameraFile> file = read_camera_file(cameras);
@@ -76,12 +76,54 @@ Expected<std::vector<Photo>> read_cameras(const fs::path& cameras, const fs::pat
     if (folder.empty()) folder = cameras.parent_path();
     for (CameraListEntry& entry : file->cameras) {
       const fs::path path = camera_photo_path(file->format, entry.image, folder);
-      photos.push_back({entry.image, std::move(entry.camera), path});
+      photos.push_back({entry.image, std::move(entry.camera), path, {}});
     }
   }
   // The photos themselves are read by the bakes, which leave out those
   // that cannot be read (PhotoBakeOptions::strict_photos).
   return photos;
+}
+
+fs::path mask_file(const fs::path& masks, const std::string& name) {
+  std::error_code ec;
+  // An absolute image name (a camera file may give one) is looked up under `masks` too.
+  const fs::path relative = fs::path(name).relative_path();
+  fs::path p = masks / (relative.string() + ".png");
+  if (fs::is_regular_file(p, ec)) return p;
+  if (relative.has_extension()) {
+    p = masks / fs::path(relative).replace_extension(".png");
+    if (fs::is_regular_file(p, ec)) return p;
+  }
+  return {};
+}
+
+Status find_masks(std::vector<Photo>& photos, const fs::path& masks, const std::string& label,
+                  std::vector<std::string>* warnings) {
+  const std::string where = label + " " + masks.string() + ": ";
+  std::error_code ec;
+  if (!fs::exists(masks, ec)) return make_error(ErrorCode::kIo, where + "no such folder");
+  if (!fs::is_directory(masks, ec)) return make_error(ErrorCode::kIo, where + "not a folder");
+  std::size_t missing = 0;
+  const Photo* first_missing = nullptr;
+  for (Photo& photo : photos) {
+    photo.mask = mask_file(masks, photo.name);
+    if (photo.mask.empty() && missing++ == 0) first_missing = &photo;
+  }
+  if (photos.empty() || missing == 0) return ok_status();
+  const std::string looked = (masks / (first_missing->name + ".png")).string();
+  if (missing == photos.size()) {
+    return make_error(ErrorCode::kIo, where + "no mask for any of the " +
+                                          std::to_string(photos.size()) +
+                                          " photos (COLMAP's convention: a mask per photo named "
+                                          "after its image name, e.g. " +
+                                          looked + ")");
+  }
+  if (warnings) {
+    warnings->push_back(
+        where + "no mask for " + std::to_string(missing) + " of " + std::to_string(photos.size()) +
+        " photos (the first: " + first_missing->name + ", looked for " + looked + "): used whole");
+  }
+  return ok_status();
 }
 
 Expected<std::vector<Photo>> read_camera_proxy(const fs::path& camera_file, const fs::path& photo) {
@@ -94,7 +136,7 @@ Expected<std::vector<Photo>> read_camera_proxy(const fs::path& camera_file, cons
                           " holds an analytic proxy, not a camera (bake it with an image "
                           "through the proxy)");
   }
-  return std::vector<Photo>{{photo.filename().string(), *camera, photo}};
+  return std::vector<Photo>{{photo.filename().string(), *camera, photo, {}}};
 }
 
 PhotoBakeOptions camera_proxy_options(PhotoBakeOptions options) {

@@ -225,6 +225,7 @@ nlohmann::ordered_json cameras_json(const std::vector<PhotoCameraStats>& cameras
   for (const PhotoCameraStats& s : cameras) {
     cams.push_back({{"image", s.name},
                     {"photo", {s.photo_width, s.photo_height}},
+                    {"masked", s.masked_share},
                     {"in_view", s.in_view},
                     {"visible", s.visible},
                     {"weight_share", s.weight_share},

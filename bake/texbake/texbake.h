@@ -342,6 +342,27 @@ Expected<std::vector<Photo>> read_cameras(const std::filesystem::path& cameras,
                                           PhotoFolder need = PhotoFolder::kNeeded,
                                           std::vector<std::string>* notes = nullptr);
 
+// The mask of the photo named `name` (Photo::name, the image name as the
+// model gives it) in the folder `masks`, by COLMAP's convention:
+// masks/<name>.png (its extension and any subfolder kept:
+// masks/IMG_1.jpg.png), else, as COLMAP 3.10 on also looks,
+// masks/<name with its extension replaced by .png> (masks/IMG_1.png); empty
+// when neither file exists.
+std::filesystem::path mask_file(const std::filesystem::path& masks, const std::string& name);
+
+// Sets Photo::mask of every photo whose mask_file exists in `masks`
+// (`--masks DIR`; the bakes then weigh the photo by it, see
+// bake/photo/photo_bake.h "Masks"). A photo without a mask file is used
+// whole, as COLMAP up to 3.9 extracts its features (3.10 on skips it), and
+// is counted in one warning added to `warnings`: "LABEL DIR: no mask for K
+// of N photos (the first: NAME, looked for DIR/NAME.png): used whole".
+// Errors (kInput, starting "LABEL DIR: "): the folder does not exist or is
+// not a folder; no photo has a mask file (naming the first file looked
+// for, as is surely a wrong folder or naming). `label` names the option
+// ("--masks", "layers[1].masks").
+Status find_masks(std::vector<Photo>& photos, const std::filesystem::path& masks,
+                  const std::string& label, std::vector<std::string>* warnings = nullptr);
+
 // A camera proxy file (SPEC section 9: a proxy file of "kind": "camera")
 // and its photo as the one-photo list of the photo bakes, which take it
 // with camera_proxy_options: `texbake bake MESH --texture PHOTO
@@ -379,9 +400,10 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
                                                      const RunOptions& run = {});
 
 // texbake cameras check (the contract of bake/photo/camera_check.h): per
-// photo the share of the mesh in front, inside the photo and visible, and
-// warnings for poses that look like convention errors. Errors: kInput (a
-// mesh with no non-degenerate triangle), kInternal.
+// photo the share of the mesh in front, inside the photo, masked out (by
+// Photo::mask, find_masks) and visible, and warnings for poses that look
+// like convention errors. Errors: kInput (a mesh with no non-degenerate
+// triangle, a mask file unreadable or of the wrong size), kInternal.
 Expected<std::vector<CameraCheck>> check_cameras(const MeshData& mesh,
                                                  const std::vector<Photo>& photos,
                                                  const RunOptions& run = {});
@@ -657,6 +679,7 @@ struct JobFileNames {
   std::filesystem::path proxy_file;  // --proxy-file
   std::filesystem::path cameras;     // --cameras: a COLMAP model folder or a JSON camera list
   std::filesystem::path images;      // --images
+  std::filesystem::path masks;       // --masks (COLMAP's mask folder)
   std::filesystem::path layers;      // --layers
   std::filesystem::path manifest;    // the batch's jobs file (every job of it reads it)
   std::filesystem::path output;      // -o
@@ -684,13 +707,15 @@ std::vector<NamedFile> job_outputs(const JobFileNames& job);
 // "layers[2].cameras"): a JSON camera list itself, or a COLMAP model
 // folder's cameras, images and points3D files (.txt and .bin, those that
 // exist), then "a photo of NAME" for every photo they name, resolved
-// against `images` as read_cameras resolves them, whether it exists or not.
+// against `images` as read_cameras resolves them, whether it exists or not,
+// and with `masks` "the mask of a photo of NAME" for every mask_file found.
 std::vector<NamedFile> camera_files(const std::filesystem::path& cameras,
-                                    const std::filesystem::path& images, const std::string& name);
+                                    const std::filesystem::path& images, const std::string& name,
+                                    const std::filesystem::path& masks = {});
 
 // The layers file "--layers" and, recursively, what it names:
 // "layers[i].proxy_file", "layers[i].texture", "layers[i].mask" and the
-// camera_files of "layers[i].cameras" (with its "images").
+// camera_files of "layers[i].cameras" (with its "images" and "masks").
 std::vector<NamedFile> layers_files(const std::filesystem::path& layers);
 
 // The name of view k (0-based) of a COLMAP workspace that render --colmap

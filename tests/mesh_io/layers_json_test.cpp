@@ -69,7 +69,7 @@ TEST(LayersJson, CamerasProxyFilesAndInlineCameras) {
       << R"({"kind":"camera","model":"PINHOLE","width":64,"height":48,"params":[50,50,32,24],)"
          R"("pose":{"q_wxyz":[1,0,0,0],"t":[0,0,5]}})";
   std::ofstream(dir / "L.json") << R"({"layers":[{"proxy_file":"cam.json","texture":"photo.png"},)"
-                                   R"({"cameras":"sparse/0","images":"photos"}]})";
+                                   R"({"cameras":"sparse/0","images":"photos","masks":"masks"}]})";
   Expected<LayersSpec> spec = read_layers_file(dir / "L.json");
   ASSERT_TRUE(spec) << spec.error().message;
   ASSERT_TRUE(spec->layers[0].projector);
@@ -78,6 +78,8 @@ TEST(LayersJson, CamerasProxyFilesAndInlineCameras) {
   EXPECT_FALSE(spec->layers[1].projector);
   EXPECT_EQ(spec->layers[1].cameras, dir / "sparse/0");
   EXPECT_EQ(spec->layers[1].images, dir / "photos");
+  EXPECT_EQ(spec->layers[1].masks, dir / "masks");
+  EXPECT_TRUE(spec->layers[0].masks.empty());
   fs::remove_all(dir);
 }
 
@@ -108,6 +110,8 @@ TEST(LayersJson, ErrorsNameTheFileAndTheKey) {
        "layers[0].outside: must be a colour [r, g, b, a]"},
       {R"({"layers":[{)" + s + R"(,"texture":"a","images":"x"}]})",
        "layers[0].images: applies to a cameras layer only"},
+      {R"({"layers":[{)" + s + R"(,"texture":"a","masks":"x"}]})",
+       "layers[0].masks: applies to a cameras layer only (a proxy layer takes \"mask\")"},
       {R"({"layers":[{"cameras":"m","texture":"a"}]})",
        "layers[0].texture: does not apply to a cameras layer"},
       {R"({"layers":[{"cameras":"m","mask":"k.png"}]})",

@@ -84,3 +84,47 @@ def test_layers_match_the_cli(tmp_path):
         texbake.bake_vertex_from_layers(mesh, layers=tmp_path / "missing.json")
     with pytest.raises(ValueError, match="occluded"):
         texbake.bake_vertex_from_layers(mesh, layers=layers, occluded="paint")
+
+
+def test_masks_as_the_cli_and_as_alpha(tmp_path):
+    """masks= is --masks (COLMAP's DIR/<image name>.png, 0 = masked out): the
+    same bytes as the CLI, and as the same masks put into the photos' alpha;
+    check_cameras counts masked vertices; a missing folder is OSError."""
+    bunny = DATA / "bunny00.off"
+    ws = tmp_path / "ws"
+    r = run_cli("render", bunny, "--texture", DATA / "earth.jpg", "--proxy", "sphere", "--up", "y",
+                "--unlit", "--views", "3", "--size", "96x72", "--colmap", ws)
+    assert r.returncode == 0, r.stderr
+    masks, alpha = tmp_path / "masks", tmp_path / "alpha"
+    masks.mkdir()
+    alpha.mkdir()
+    for k in range(3):
+        name = f"view_0{k}.png"
+        keep = np.ones((72, 96), bool)
+        keep[:, 10 * k:10 * k + 40] = False
+        grey = np.where(keep, 0.5, 0.0).astype(np.float32)  # 0.5: kept whole, COLMAP's rule
+        texbake.write_image(masks / (name + ".png"), np.dstack([grey, grey, grey]))
+        photo = np.array(texbake.read_image(ws / "images" / name))
+        photo[..., 3] *= keep
+        texbake.write_image(alpha / name, photo)
+    mesh = texbake.read_mesh(bunny)
+    model = ws / "sparse" / "0"
+    by_masks, stats, cameras = texbake.bake_vertex_from_photos(mesh, cameras=model, masks=masks)
+    by_alpha, _, _ = texbake.bake_vertex_from_photos(mesh, cameras=model, images=alpha)
+    plain, _, _ = texbake.bake_vertex_from_photos(mesh, cameras=model)
+    assert np.array_equal(by_masks, by_alpha)
+    assert not np.array_equal(by_masks, plain)
+    assert all(c["masked"] > 40 / 96 for c in cameras)
+    out = tmp_path / "cli.ply"
+    r = run_cli("bake", bunny, "--cameras", model, "--masks", masks, "-q", "-o", out)
+    assert r.returncode == 0, r.stderr
+    py = tmp_path / "py.ply"
+    texbake.write_vertex_colors(py, mesh, by_masks)
+    assert py.read_bytes() == out.read_bytes()
+    checks = texbake.check_cameras(mesh, cameras=model, masks=masks)
+    unmasked = texbake.check_cameras(mesh, cameras=model)
+    for c, u in zip(checks, unmasked):
+        assert c["has_mask"] and c["masked"] > 0 and c["inside"] == u["inside"]
+        assert c["visible"] < u["visible"] and u["masked"] == 0
+    with pytest.raises(OSError, match="masks .*nowhere: no such folder"):
+        texbake.bake_vertex_from_photos(mesh, cameras=model, masks=tmp_path / "nowhere")

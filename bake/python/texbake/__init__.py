@@ -367,7 +367,7 @@ def bake_vertex(*mesh_image_proxy, filter=_v("filter"), samples=_v("samples"),
                                 occluded, outside, linear, wrap, cache_mb, threads, progress)
 
 
-def bake_vertex_from_photos(*mesh, cameras, images=None, blend=_v("blend"),
+def bake_vertex_from_photos(*mesh, cameras, images=None, masks=None, blend=_v("blend"),
                             exposure=_v("exposure"), occluded=_v("occluded"),
                             colorspace=_v("texture_colorspace"),
                             strict_photos=_v("strict_photos"), threads=0, progress=None):
@@ -376,19 +376,23 @@ def bake_vertex_from_photos(*mesh, cameras, images=None, blend=_v("blend"),
 
     cameras: a COLMAP sparse model folder (cameras + images, .txt or .bin) or
     a JSON camera list; images: the photos' folder (default: a COLMAP
-    workspace's images/ beside sparse/, or the list's folder). blend 'soft' |
-    'best' | 'mean'; exposure 'gain' | 'none'; occluded 'fill' | (r, g, b[, a]);
+    workspace's images/ beside sparse/, or the list's folder); masks: the
+    photos' masks in COLMAP's convention (--masks: DIR/<image name>.png, 0 =
+    masked out; a photo without one is used whole, named in
+    stats['warnings']; a photo's own alpha always weighs its samples). blend
+    'soft' | 'best' | 'mean'; exposure 'gain' | 'none'; occluded 'fill' | (r, g, b[, a]);
     colorspace 'auto' | 'srgb' | 'linear' (the photos'). A photo that cannot
     be read is left out, named in stats['warnings'] and listed in
     stats['photos_skipped'] (dicts with image, path, reason); strict_photos=True
     makes it an error (OSError), as --strict-photos; no readable photo is an
     error. Returns (colors (n, 4) float32, stats dict (counts as the report's:
     camera_samples, unseen, ...), cameras: a list of dicts per photo used
-    with image, photo (w, h), in_view, visible, weight_share, gain (r, g,
-    b)). Progress stage: 'photos'.
+    with image, photo (w, h), masked (the share of its pixels masked out),
+    in_view, visible, weight_share, gain (r, g, b), shared, deviation).
+    Progress stage: 'photos'.
     """
     mesh = _mesh(mesh, 0, "bake_vertex_from_photos")[0]
-    return _texbake.bake_vertex_from_photos(mesh, cameras, images, blend, exposure, occluded,
+    return _texbake.bake_vertex_from_photos(mesh, cameras, images, masks, blend, exposure, occluded,
                                             colorspace, bool(strict_photos), threads, progress)
 
 
@@ -436,7 +440,7 @@ def bake_atlas(*mesh_image_proxy, uv=_a("uv"), size=_a("size"), samples=_a("samp
                                progress)
 
 
-def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_a("blend"),
+def bake_atlas_from_photos(*mesh, cameras, images=None, masks=None, blend=_a("blend"),
                            exposure=_a("exposure"), occluded=_a("occluded"),
                            colorspace=_a("texture_colorspace"), uv=_a("uv"), size=_a("size"),
                            samples=_a("samples"), padding=_a("padding"),
@@ -445,7 +449,7 @@ def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_a("blend"),
     a texture atlas from calibrated photographs (`texbake bake MESH --cameras
     PATH -o OUT.obj|.glb`).
 
-    cameras, images, blend, exposure, occluded, colorspace, strict_photos as
+    cameras, images, masks, blend, exposure, occluded, colorspace, strict_photos as
     bake_vertex_from_photos; uv 'auto' | 'mesh' | 'generate' (no proxy here),
     size, samples, padding as bake_atlas. Every atlas supersample is blended
     from the photos that see it; unseen samples as `occluded` says. Returns
@@ -458,7 +462,7 @@ def bake_atlas_from_photos(*mesh, cameras, images=None, blend=_a("blend"),
     model, a photo, the mesh). Progress stages: 'uv_layout', 'photos'.
     """
     mesh = _mesh(mesh, 0, "bake_atlas_from_photos")[0]
-    return _texbake.bake_atlas_from_photos(mesh, cameras, images, blend, exposure, occluded,
+    return _texbake.bake_atlas_from_photos(mesh, cameras, images, masks, blend, exposure, occluded,
                                            colorspace, bool(strict_photos), uv, size, samples,
                                            padding, threads, progress)
 
@@ -521,15 +525,18 @@ def bake_atlas_from_layers(*mesh, layers, occluded=_a("occluded"), uv=_a("uv"), 
                                            cache_mb, threads, progress)
 
 
-def check_cameras(*mesh, cameras, images=None, threads=0):
-    """check_cameras(mesh, cameras=PATH, images=None) or (vertices, faces, cameras=PATH, ...):
-    `texbake cameras check`: per photo a dict with image, in_front, inside
-    and visible (shares of the mesh's vertices in front of the camera, inside
-    its photo, visible from it, in [0, 1]) and warnings (poses that look like
-    convention errors). cameras and images as bake_vertex_from_photos.
-    Errors: ValueError, OSError (the model, a missing photo, the mesh)."""
+def check_cameras(*mesh, cameras, images=None, masks=None, threads=0):
+    """check_cameras(mesh, cameras=PATH, images=None, masks=None) or (vertices, faces, ...):
+    `texbake cameras check`: per photo a dict with image, in_front, inside,
+    masked, visible (shares of the mesh's vertices in front of the camera,
+    inside its photo, inside but masked out by its mask file, inside,
+    unmasked and visible from it, in [0, 1]), has_mask (its mask file was
+    found in masks) and warnings (poses that look like convention errors).
+    cameras, images and masks as bake_vertex_from_photos (the check reads no
+    photo: only mask files mask). Errors: ValueError, OSError (the model, the
+    masks folder or a mask file, the mesh)."""
     mesh = _mesh(mesh, 0, "check_cameras")[0]
-    return _texbake.check_cameras(mesh, cameras, images, threads)
+    return _texbake.check_cameras(mesh, cameras, images, masks, threads)
 
 
 def _atlas_face_uvs(atlas):

@@ -86,7 +86,7 @@ struct Shots {
     };
   }
   void add(const std::string& name, CameraProjector camera, PhotoImage image) {
-    photos.push_back({name, std::move(camera), name + ".png"});
+    photos.push_back({name, std::move(camera), name + ".png", {}});
     images.push_back(std::move(image));
   }
 };

@@ -65,7 +65,7 @@ const World& world() {
       Expected<Camera> view = make_camera(*bounds, o, azimuth);
       EXPECT_TRUE(view);
       const std::string name = "view_" + std::to_string(w.photos.size()) + ".png";
-      w.photos.push_back({name, pinhole_of_view(*view), name});
+      w.photos.push_back({name, pinhole_of_view(*view), name, {}});
       w.images.push_back({r->image.width, r->image.height, std::move(r->image.pixels)});
     }
     return w;
