@@ -6,6 +6,9 @@
 // bake/fit/model_alignment.h, and a warning when it is not or may not be).
 // texbake cameras align MESH --cameras MODEL -o OUT: the model moved into the
 // mesh's frame (bake/fit/model_alignment.h's fit, or --transform).
+// texbake cameras refine MESH --cameras MODEL -o OUT: every photo's pose
+// refined so that the photos agree on the mesh (bake/photo/pose_refine.h),
+// written as a COLMAP model of the input's form.
 // texbake cameras convert IN -o OUT [--binary]: any camera format --cameras
 // reads, written as a COLMAP model (mesh_io/colmap_model.h's writer, the one
 // render --colmap uses).
@@ -18,10 +21,12 @@
 #include <vector>
 
 #include "bake/cli/commands.h"
+#include "bake/util/timing.h"
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/camera_formats.h"
 #include "mesh_io/colmap_model.h"
 #include "texbake/geometry_options.h"
+#include "texbake/report.h"
 #include "texbake/texbake.h"
 
 namespace texbake::cli {
@@ -262,6 +267,154 @@ int run_align(const AlignArgs& a) {
   return 0;
 }
 
+// texbake cameras refine MESH --cameras MODEL -o OUT [options]
+struct RefineArgs {
+  std::string mesh, cameras, images, output, report;
+  PoseRefineOptions options;
+  std::string colorspace = "auto";
+  int threads = 0;
+  bool quiet = false;
+};
+
+// The --report of cameras refine: inputs and options, per photo its
+// changes, residuals and flags, the photos left out, timings.
+std::string refine_report(const RefineArgs& a, const RefinedCameras& r, bool binary, double load,
+                          double write, double total) {
+  nlohmann::ordered_json photos = nlohmann::ordered_json::array();
+  for (const RefinedPose& p : r.photos) {
+    nlohmann::ordered_json j = {{"image", p.name},
+                                {"skipped", p.skipped},
+                                {"rotation_change_deg", p.rotation_change_deg},
+                                {"translation_change", p.translation_change}};
+    if (a.options.intrinsics) j["focal_change"] = p.focal_change;
+    j["residual_before"] = p.residual_before;
+    j["residual_after"] = p.residual_after;
+    j["samples_before"] = p.samples_before;
+    j["samples_after"] = p.samples_after;
+    j["iterations"] = p.iterations;
+    j["clamped"] = p.clamped;
+    j["gain"] = p.gain;
+    photos.push_back(std::move(j));
+  }
+  const PoseRefineOptions& o = a.options;
+  nlohmann::ordered_json j = {{"command", "cameras refine"},
+                              {"inputs",
+                               {{"mesh", a.mesh},
+                                {"cameras", a.cameras},
+                                {"images", a.images},
+                                {"output", a.output},
+                                {"format", binary ? "binary" : "text"},
+                                {"options",
+                                 {{"intrinsics", o.intrinsics},
+                                  {"max_rotation", o.max_rotation_deg},
+                                  {"max_translation", o.max_translation},
+                                  {"iterations", o.iterations},
+                                  {"threads", a.threads}}}}},
+                              {"points", r.points},
+                              {"levels", r.levels},
+                              {"mesh_size", r.mesh_size},
+                              {"photos", std::move(photos)},
+                              {"photos_skipped", skipped_photos_json(r.skipped)},
+                              {"warnings", r.stats.warnings},
+                              {"timings",
+                               {{"load", load},
+                                {"scene_build", r.stats.timings.scene_build},
+                                {"refine", r.stats.timings.bake},
+                                {"write", write},
+                                {"total", total}}}};
+  return j.dump(2) + "\n";
+}
+
+int run_refine(const RefineArgs& a) {
+  namespace fs = std::filesystem;
+  const auto start = Clock::now();
+  const fs::path out = a.output;
+  std::error_code ec;
+  if (!fs::is_directory(a.cameras, ec)) {
+    return report_error(ErrorCode::kInvalidArgument,
+                        "--cameras " + a.cameras +
+                            ": cameras refine takes a COLMAP model folder (texbake cameras "
+                            "convert writes one from the other formats)");
+  }
+  std::vector<NamedFile> inputs = camera_files(a.cameras, a.images, "--cameras");
+  inputs.push_back({"MESH", a.mesh});
+  if (Status s = check_model_output(inputs, out); !s) return report_error(s.error());
+  if (!a.report.empty()) {
+    std::vector<NamedFile> taken = inputs;
+    for (const char* stem : {"cameras", "images", "points3D"}) {
+      for (const char* ext : {".txt", ".bin"}) {
+        taken.push_back({"-o", out / (std::string(stem) + ext)});
+      }
+    }
+    if (Status s = check_distinct_files(taken, {{"--report", a.report}}); !s) {
+      return report_error(s.error());
+    }
+  }
+  PoseRefineOptions options = a.options;
+  Expected<TextureColorSpace> cs =
+      parse_choice<TextureColorSpace>(a.colorspace, "--texture-colorspace");
+  if (!cs) return report_error(cs.error());
+  options.color_space = *cs;
+  // The model as stored (ids, names, its sparse points) and its photos.
+  const bool binary = fs::exists(fs::path(a.cameras) / "cameras.bin", ec) &&
+                      fs::exists(fs::path(a.cameras) / "images.bin", ec);
+  Expected<std::vector<ColmapImage>> images = read_colmap_model(a.cameras);
+  if (!images) return report_error(images.error());
+  Expected<std::vector<Vec3>> points = read_colmap_points(a.cameras);
+  if (!points) return report_error(points.error());
+  Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images);
+  if (!photos) return report_error(photos.error());
+  RunOptions run;
+  run.threads = a.threads;
+  Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
+  if (!mesh) return report_error(mesh.error());
+  const double load = seconds_since(start);
+  Expected<RefinedCameras> refined = refine_cameras(mesh->mesh, *photos, options, run);
+  if (!refined) return report_mesh_error(refined.error(), a.mesh);
+  for (std::size_t i = 0; i < images->size(); ++i) {
+    (*images)[i].camera = refined->photos[i].camera;
+  }
+  const auto write_start = Clock::now();
+  AtomicFileSet set;
+  if (Status s = write_colmap_model(out, *images, binary, &set, *points); !s) {
+    return report_error(s.error());
+  }
+  if (!a.report.empty()) {
+    const double write = seconds_since(write_start);
+    const std::string text = refine_report(a, *refined, binary, load, write, seconds_since(start));
+    Status s = set.stage(a.report, [&](const fs::path& temp) -> Status {
+      FILE* f = std::fopen(temp.c_str(), "wb");
+      if (!f) return make_error(ErrorCode::kIo, a.report + ": cannot be written");
+      const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+      if (std::fclose(f) != 0 || !ok) {
+        return make_error(ErrorCode::kIo, a.report + ": cannot be written");
+      }
+      return ok_status();
+    });
+    if (!s) return report_error(s.error());
+  }
+  if (Status s = set.commit(); !s) return report_error(s.error());
+  for (const std::string& w : refined->stats.warnings) {
+    std::fprintf(stderr, "texbake: warning: %s\n", w.c_str());
+  }
+  if (!a.quiet) {
+    std::printf("%-28s %9s %9s %21s %6s\n", "image", "rotation", "centre", "residual", "steps");
+    for (const RefinedPose& p : refined->photos) {
+      if (p.skipped) {
+        std::printf("%-28s (left out: its photo cannot be read)\n", p.name.c_str());
+        continue;
+      }
+      std::printf("%-28s %8.4f%c %8.4f%% %9.5f -> %9.5f %6d%s\n", p.name.c_str(),
+                  p.rotation_change_deg, 'd', 100 * p.translation_change, p.residual_before,
+                  p.residual_after, p.iterations, p.clamped ? "  clamped" : "");
+    }
+    std::printf("refined %zu photos of %s on %s (%zu points, %d levels) -> %s\n",
+                refined->photos.size() - refined->skipped.size(), a.cameras.c_str(), a.mesh.c_str(),
+                refined->points, refined->levels, out.c_str());
+  }
+  return 0;
+}
+
 int run_convert(const ConvertArgs& a) {
   namespace fs = std::filesystem;
   const fs::path out = a.output;
@@ -343,8 +496,8 @@ RunFunction add_cameras_command(CLI::App& app) {
   auto args = std::make_shared<CamerasArgs>();
   CLI::App* cmd = app.add_subcommand(
       "cameras",
-      "Check calibrated cameras against a mesh, align a COLMAP model to it, or convert cameras "
-      "to a COLMAP model.");
+      "Check calibrated cameras against a mesh, align a COLMAP model to it, refine its poses "
+      "from the photos, or convert cameras to a COLMAP model.");
   cmd->require_subcommand(1);
   auto convert_args = std::make_shared<ConvertArgs>();
   CLI::App* check = cmd->add_subcommand(
@@ -418,9 +571,65 @@ RunFunction add_cameras_command(CLI::App& app) {
                   "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
   align->add_option("--threads", align_args->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
-  return [args, convert_args, align_args, check, align] {
+  auto refine_args = std::make_shared<RefineArgs>();
+  CLI::App* refine = cmd->add_subcommand(
+      "refine",
+      "Refine every photo's pose (6 degrees of freedom; with --intrinsics also its focal length "
+      "and principal point) so that the photos agree on the mesh: minimises the differences, in "
+      "linear light, between each photo's colour at the mesh's surface points and the other "
+      "photos' consensus there, with exposure gains per photo solved jointly, coarse to fine "
+      "over a pyramid of the photos, with the visibility of the photo bake and points near "
+      "depth discontinuities left out. Each change is bounded (--max-rotation, "
+      "--max-translation; a photo that reaches a bound is clamped and flagged) and reported. "
+      "Written as a COLMAP model of the input's form (text or binary), its sparse points kept.");
+  refine->add_option("mesh", refine_args->mesh, "the mesh (.obj, .ply, .off, .stl, .glb, .gltf)")
+      ->required();
+  refine->add_option("--cameras", refine_args->cameras, "the COLMAP sparse model folder to refine")
+      ->required();
+  refine->add_option("--images", refine_args->images,
+                     "the photos' folder (default: the workspace's images/ beside sparse/)");
+  refine
+      ->add_option("-o,--output", refine_args->output,
+                   "the refined model's folder (created if missing; a model of the other form "
+                   "there is replaced); never the input's")
+      ->required();
+  refine->add_flag("--intrinsics", refine_args->options.intrinsics,
+                   "also refine each photo's focal length(s) and principal point (per photo: "
+                   "images that shared a camera get one each)");
+  refine
+      ->add_option("--max-rotation", refine_args->options.max_rotation_deg,
+                   "the most a photo's rotation may change, in degrees")
+      ->default_val(PoseRefineOptions{}.max_rotation_deg)
+      ->check(CLI::Range(1e-6, 180.0));
+  refine
+      ->add_option("--max-translation", refine_args->options.max_translation,
+                   "the most a photo's centre may move, as a fraction of the mesh's size (its "
+                   "bounding-box diagonal)")
+      ->default_val(PoseRefineOptions{}.max_translation)
+      ->check(CLI::Range(1e-9, 1e6));
+  refine
+      ->add_option("--iterations", refine_args->options.iterations,
+                   "the most Gauss-Newton steps per pyramid level")
+      ->default_val(PoseRefineOptions{}.iterations)
+      ->check(CLI::Range(1, 1000));
+  refine->add_option("--report", refine_args->report,
+                     "write a JSON report: per photo the rotation change (degrees), the centre's "
+                     "move (fraction of the mesh's size), the residual before and after, the "
+                     "steps taken, whether it was clamped, its gains");
+  refine
+      ->add_option("--texture-colorspace", refine_args->colorspace,
+                   "the photos' encoding: auto (8/16-bit sRGB, float linear), srgb or linear")
+      ->default_val("auto");
+  refine->add_flag("--strict-photos", refine_args->options.strict_photos,
+                   "a photo that cannot be read is an error (default: it is left out with a "
+                   "warning and its pose written unchanged)");
+  refine->add_flag("-q,--quiet", refine_args->quiet, "print no table");
+  refine->add_option("--threads", refine_args->threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  return [args, convert_args, align_args, refine_args, check, align, refine] {
     if (check->parsed()) return run_check(*args);
     if (align->parsed()) return run_align(*align_args);
+    if (refine->parsed()) return run_refine(*refine_args);
     return run_convert(*convert_args);
   };
 }

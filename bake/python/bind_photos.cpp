@@ -2,6 +2,8 @@
 // file with its photo), from a layers file, and cameras check: the jobs of
 // `texbake bake --cameras`, `bake --texture PHOTO --proxy-file CAMERA`,
 // `bake --layers` and `texbake cameras check`, each for either target.
+#include <cmath>
+
 #include "bake/python/common.h"
 
 namespace texbake::python {
@@ -205,12 +207,76 @@ py::list camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle im
   return out;
 }
 
+// cameras refine: per photo its refined camera (model, size, params, R,
+// t: world-to-camera, OpenCV axes) and the report's figures.
+py::tuple refine(const LoadedMesh& mesh, py::handle cameras, py::handle images, bool intrinsics,
+                 py::handle max_rotation, py::handle max_translation, py::handle iterations,
+                 py::handle colorspace, bool strict_photos, py::handle threads,
+                 py::object progress) {
+  PoseRefineOptions o;
+  o.intrinsics = intrinsics;
+  o.max_rotation_deg = py::cast<double>(max_rotation);
+  o.max_translation = py::cast<double>(max_translation);
+  o.iterations = static_cast<int>(int_arg(iterations, "--iterations"));
+  o.color_space = choice_arg<TextureColorSpace>(colorspace, "--texture-colorspace");
+  o.strict_photos = strict_photos;
+  if (!(o.max_rotation_deg > 0 && o.max_rotation_deg <= 180)) {
+    throw py::value_error("--max-rotation must be in (0, 180] degrees");
+  }
+  if (!(o.max_translation > 0 && std::isfinite(o.max_translation))) {
+    throw py::value_error("--max-translation must be a positive fraction of the mesh's size");
+  }
+  if (o.iterations < 1 || o.iterations > 1000) {
+    throw py::value_error("--iterations " + std::to_string(o.iterations) +
+                          " is out of range (1 .. 1000)");
+  }
+  const std::vector<Photo> photos = read_photos(cameras, images);
+  PyRun run(threads, std::move(progress));
+  RefinedCameras refined = run_released<RefinedCameras>(
+      run, [&](const RunOptions& r) { return refine_cameras(mesh.mesh, photos, o, r); });
+  py::list out;
+  for (const RefinedPose& p : refined.photos) {
+    const CameraSpec& spec = p.camera.spec();
+    py::dict d;
+    d["image"] = p.name;
+    d["skipped"] = p.skipped;
+    d["model"] = std::string(camera_model_name(spec.model));
+    d["width"] = spec.width;
+    d["height"] = spec.height;
+    d["params"] = spec.params;
+    py::list r;
+    for (int i = 0; i < 3; ++i) {
+      r.append(py::make_tuple(spec.pose.r[3 * i], spec.pose.r[3 * i + 1], spec.pose.r[3 * i + 2]));
+    }
+    d["R"] = r;
+    d["t"] = py::make_tuple(spec.pose.t.x, spec.pose.t.y, spec.pose.t.z);
+    d["rotation_change_deg"] = p.rotation_change_deg;
+    d["translation_change"] = p.translation_change;
+    d["focal_change"] = p.focal_change;
+    d["residual_before"] = p.residual_before;
+    d["residual_after"] = p.residual_after;
+    d["samples_before"] = p.samples_before;
+    d["samples_after"] = p.samples_after;
+    d["iterations"] = p.iterations;
+    d["clamped"] = p.clamped;
+    d["gain"] = py::make_tuple(p.gain[0], p.gain[1], p.gain[2]);
+    out.append(d);
+  }
+  py::dict stats = stats_dict(refined.stats);
+  stats["points"] = refined.points;
+  stats["levels"] = refined.levels;
+  stats["mesh_size"] = refined.mesh_size;
+  stats["photos_skipped"] = skipped_list(refined.skipped);
+  return py::make_tuple(out, stats);
+}
+
 }  // namespace
 
 void bind_photos(py::module_& m) {
   bind_photo_bakes(m);
   bind_layer_bakes(m);
   m.def("check_cameras", &camera_checks);
+  m.def("refine_cameras", &refine);
 }
 
 }  // namespace texbake::python

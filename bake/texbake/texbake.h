@@ -65,6 +65,7 @@
 #include "bake/photo/camera_check.h"
 #include "bake/photo/photo_atlas.h"
 #include "bake/photo/photo_bake.h"
+#include "bake/photo/pose_refine.h"
 #include "bake/render/render_preview.h"
 #include "bake/shade/options.h"
 #include "bake/uv/uv_layout.h"
@@ -418,6 +419,32 @@ Expected<std::vector<CameraCheck>> check_cameras(const MeshData& mesh,
 Expected<ModelAlignment> check_model_alignment(const MeshData& mesh,
                                                const std::filesystem::path& cameras,
                                                const RunOptions& run = {});
+
+// texbake cameras refine (the contract of bake/photo/pose_refine.h): every
+// photo's pose (with options.intrinsics also its focal length and principal
+// point) refined so that the photos agree on the mesh, photometrically in
+// linear light with exposure gains solved jointly, each change bounded by
+// options.max_rotation_deg and max_translation (times the mesh's
+// bounding-box diagonal) and reported per photo. A photo that cannot be
+// read is left out with a warning (its pose returned unchanged, `skipped`
+// set), unless options.strict_photos. Errors: kUsage (options out of range,
+// fewer than two photos: one has nothing to agree with), kInput (a photo
+// unreadable under strict_photos, fewer than two readable photos, a photo
+// of the wrong size, no point seen by two photos, a mesh with no
+// non-degenerate triangle), kInternal, kCancelled. Progress stages:
+// "photos" (per photo read), "refine" (per level and iteration).
+struct RefinedCameras {
+  std::vector<RefinedPose> photos;    // one per input photo, in order
+  std::vector<SkippedPhoto> skipped;  // photos left out (cannot be read; also warnings)
+  std::size_t points = 0;             // surface sample points
+  int levels = 0;                     // pyramid levels
+  double mesh_size = 0;               // the bounding-box diagonal translations are relative to
+  Stats stats;  // counts.vertices, triangles, samples (= points); timings.scene_build,
+                // bake (reading the photos and refining), total; warnings
+};
+Expected<RefinedCameras> refine_cameras(const MeshData& mesh, const std::vector<Photo>& photos,
+                                        const PoseRefineOptions& options = {},
+                                        const RunOptions& run = {});
 
 // ---- Layers (SPEC section 10) ---------------------------------------------
 

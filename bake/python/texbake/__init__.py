@@ -63,7 +63,7 @@ __all__ = [
     "Atlas", "Cancelled", "DEFAULTS", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
     "bake_atlas_from_camera", "bake_atlas_from_layers", "bake_atlas_from_photos",
     "bake_vertex", "bake_vertex_from_camera", "bake_vertex_from_layers",
-    "bake_vertex_from_photos", "check_cameras", "compare", "fit", "map", "read_image",
+    "bake_vertex_from_photos", "check_cameras", "compare", "refine_cameras", "fit", "map", "read_image",
     "read_mesh", "render",
     "write_atlas", "write_image", "write_vertex_colors",
     "JOB_OPTIONS", "run_batch", "run_job",
@@ -537,6 +537,33 @@ def check_cameras(*mesh, cameras, images=None, masks=None, threads=0):
     masks folder or a mask file, the mesh)."""
     mesh = _mesh(mesh, 0, "check_cameras")[0]
     return _texbake.check_cameras(mesh, cameras, images, masks, threads)
+
+
+def refine_cameras(*mesh, cameras, images=None, intrinsics=False, max_rotation=2.0,
+                   max_translation=0.05, iterations=50, colorspace="auto", strict_photos=False,
+                   threads=0, progress=None):
+    """refine_cameras(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
+    `texbake cameras refine`: every photo's pose (with intrinsics=True also its
+    focal length and principal point) refined so that the photos agree on the
+    mesh (photometric, linear light, exposure gains solved jointly), each change
+    bounded by max_rotation (degrees) and max_translation (a fraction of the
+    mesh's bounding-box diagonal). cameras and images as bake_vertex_from_photos.
+
+    Returns (photos, stats): photos a list, in the model's order, of dicts with
+    image, skipped (its photo cannot be read: unchanged), model, width, height,
+    params (COLMAP's order), R (3 rows) and t (world-to-camera, OpenCV axes:
+    what the CLI writes to images.txt), rotation_change_deg, translation_change,
+    focal_change, residual_before, residual_after (RMS per channel, linear
+    light), samples_before, samples_after, iterations, clamped, gain; stats a
+    dict with counts, timings, warnings, points, levels, mesh_size and
+    photos_skipped. Errors: ValueError (options, fewer than two photos),
+    OSError (the model, the photos, the mesh). Progress stages: 'photos',
+    'refine'.
+    """
+    mesh = _mesh(mesh, 0, "refine_cameras")[0]
+    return _texbake.refine_cameras(mesh, cameras, images, bool(intrinsics), max_rotation,
+                                   max_translation, iterations, colorspace, bool(strict_photos),
+                                   threads, progress)
 
 
 def _atlas_face_uvs(atlas):
