@@ -230,7 +230,7 @@ py::tuple refine(const LoadedMesh& mesh, py::handle cameras, py::handle images, 
     throw py::value_error("--iterations " + std::to_string(o.iterations) +
                           " is out of range (1 .. 1000)");
   }
-  const std::vector<Photo> photos = read_photos(cameras, images);
+  const std::vector<Photo> photos = read_photos(cameras, images, py::none()).photos;
   PyRun run(threads, std::move(progress));
   RefinedCameras refined = run_released<RefinedCameras>(
       run, [&](const RunOptions& r) { return refine_cameras(mesh.mesh, photos, o, r); });
