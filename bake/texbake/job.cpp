@@ -6,6 +6,7 @@
 #include <new>
 #include <utility>
 
+#include "bake/texbake/run.h"
 #include "bake/util/timing.h"
 #include "mapping/proxy_schema.h"
 #include "mesh_io/atomic_file.h"
@@ -39,6 +40,8 @@ class Held {
     return h;
   }
   const T& get() const { return own_ ? *own_ : *shared_; }
+  // The shared one (null when it is its own).
+  const std::shared_ptr<const T>& shared() const { return shared_; }
   bool own() const { return own_.has_value(); }
   // For a step that consumes it: its own moved out, a shared one copied.
   T take() {
@@ -285,12 +288,27 @@ class JobRun {
           c.occluded, c.outside, c.padded);
       return ok_status();
     }
+    // The visibility scene of a mesh the jobs share, built once for them.
+    std::shared_ptr<const EmbreeScene> scene;
+    double scene_build = 0;
+    if (job_.cache && mesh->shared() && job_.shading.visibility == Visibility::kFirst) {
+      stage = Clock::now();
+      bool built = false;
+      std::optional<Expected<std::shared_ptr<const EmbreeScene>>> cached;
+      run_in_arena(job_.threads,
+                   [&] { cached.emplace(job_.cache->scene(mesh->shared(), &built)); });
+      if (!*cached) return mesh_error(cached->error());
+      scene = std::move(**cached);
+      if (built) scene_build = seconds_since(stage);
+    }
     // Sample, free the image (unless the cache keeps it for the next job), fill; write.
-    Expected<VertexColors> baked =
-        image->own()
-            ? bake_vertex_colors(mesh->get().mesh, image->take(), *proxy, job_.shading, run)
-            : bake_vertex_colors(mesh->get().mesh, image->get().view(), *proxy, job_.shading, run);
+    std::optional<Image> owned;
+    if (image->own()) owned.emplace(image->take());
+    Expected<VertexColors> baked = detail::bake_vertex_colors_on(
+        mesh->get().mesh, owned ? owned->view() : image->get().view(), owned ? &*owned : nullptr,
+        *proxy, job_.shading, run, scene.get());
     if (!baked) return mesh_error(baked.error());
+    if (scene) baked->stats.timings.scene_build = scene_build;
     for (const std::string& w : baked->stats.warnings) warn(w);
     report_.stats = result_.stats = baked->stats;
     if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,

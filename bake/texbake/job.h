@@ -41,8 +41,12 @@ enum class JobTarget { kVertex, kAtlas };
 // options) instead of reading and decoding it again. It holds one mesh and
 // one texture at most: a job that reads another file drops the old one
 // first, so a batch's memory peak is that of its largest job plus, at most,
-// the last mesh and texture while a job that needs neither runs. Results are
-// the same bytes as without it. Thread-safe.
+// the last mesh and texture while a job that needs neither runs. With the
+// mesh it keeps the mesh's visibility scene (Embree's BVH), built by the
+// first per-vertex job that tests visibility on it, for meshes of at most
+// kSceneKeepTriangles triangles (a larger scene costs more memory than its
+// build costs time). Results are the same bytes as without it. Thread-safe.
+class EmbreeScene;
 class JobCache {
  public:
   JobCache();
@@ -58,8 +62,17 @@ class JobCache {
   Expected<std::shared_ptr<const Image>> image(const std::filesystem::path& path,
                                                const ImageReadOptions& options);
 
+  // The visibility scene of `mesh`, a mesh this cache returned and still
+  // holds: built on the first call (`built` set), the same scene after.
+  // Null when the mesh is not the one held or has more than
+  // kSceneKeepTriangles triangles. Errors: kInternal (Embree).
+  static constexpr std::size_t kSceneKeepTriangles = std::size_t{1} << 22;
+  Expected<std::shared_ptr<const EmbreeScene>> scene(const std::shared_ptr<const LoadedMesh>& mesh,
+                                                     bool* built = nullptr);
+
   struct Counts {
     std::size_t mesh_reads = 0, mesh_hits = 0, image_reads = 0, image_hits = 0;
+    std::size_t scene_builds = 0, scene_hits = 0;
   };
   Counts counts() const;
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bake/texbake/job.h"
+#include "bake/trace/embree_scene.h"
 #include "mesh_io/mesh_files.h"
 
 namespace texbake {
@@ -59,6 +60,7 @@ struct JobCache::State {
   std::mutex mutex;
   std::vector<FileStamp> mesh_stamp;
   std::shared_ptr<const LoadedMesh> mesh;
+  std::shared_ptr<const EmbreeScene> scene;  // of `mesh`, once a job asked for it
   std::vector<FileStamp> image_stamp;
   ImageReadOptions image_options;
   std::shared_ptr<const Image> image;
@@ -77,6 +79,7 @@ Expected<std::shared_ptr<const LoadedMesh>> JobCache::mesh(const fs::path& path,
     ++s.counts.mesh_hits;
     return s.mesh;
   }
+  s.scene.reset();
   s.mesh.reset();  // before reading the next one: one mesh in memory, not two
   s.mesh_stamp.clear();
   ++s.counts.mesh_reads;
@@ -105,6 +108,27 @@ Expected<std::shared_ptr<const Image>> JobCache::image(const fs::path& path,
   auto shared = std::make_shared<const Image>(std::move(read).value());
   if (now) s.image = shared, s.image_stamp = *now, s.image_options = options;
   return shared;
+}
+
+Expected<std::shared_ptr<const EmbreeScene>> JobCache::scene(
+    const std::shared_ptr<const LoadedMesh>& mesh, bool* built) {
+  State& s = *state_;
+  if (built) *built = false;
+  std::lock_guard<std::mutex> lock(s.mutex);
+  if (!mesh || mesh != s.mesh || mesh->mesh.triangles.size() > kSceneKeepTriangles) {
+    return std::shared_ptr<const EmbreeScene>{};
+  }
+  if (s.scene) {
+    ++s.counts.scene_hits;
+    return s.scene;
+  }
+  // The quality the per-vertex bake builds with (bake_vertex_sample).
+  Expected<EmbreeScene> scene = EmbreeScene::build(mesh->mesh, BuildQuality::kLow);
+  if (!scene) return scene.error();
+  ++s.counts.scene_builds;
+  if (built) *built = true;
+  s.scene = std::make_shared<const EmbreeScene>(std::move(scene).value());
+  return s.scene;
 }
 
 JobCache::Counts JobCache::counts() const {

@@ -13,7 +13,19 @@
 #include "bake/util/progress.h"
 #include "texbake/texbake.h"
 
+namespace texbake {
+class EmbreeScene;
+}
+
 namespace texbake::detail {
+
+// bake_vertex_colors (texbake.h) on a visibility scene already built over
+// `mesh` (JobCache::scene; null: built here), the image consumed when
+// `owned` is given (then `image` is its view).
+Expected<VertexColors> bake_vertex_colors_on(const MeshData& mesh, const ImageView& image,
+                                             Image* owned, const Proxy& proxy,
+                                             const VertexBakeOptions& options,
+                                             const RunOptions& run, const EmbreeScene* scene);
 
 // Runs work() (returning Expected<T>) inside a task arena of run.threads
 // threads; std::bad_alloc and other exceptions become kInternal errors

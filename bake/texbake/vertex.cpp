@@ -15,14 +15,15 @@ namespace {
 template <class Release>
 Expected<VertexColors> bake(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
                             const VertexBakeOptions& options, const RunOptions& run,
-                            Release&& release) {
+                            const EmbreeScene* scene, Release&& release) {
   const auto start = Clock::now();
   if (Status s = validate_options(options); !s) return s.error();
   if (Status s = detail::check_image(image); !s) return s.error();
   if (Status s = check_triangles(mesh); !s) return s.error();
   Progress progress(run.progress);
   return detail::run_call<VertexColors>(run, [&]() -> Expected<VertexColors> {
-    Expected<VertexBakeStage> sampled = bake_vertex_sample(mesh, image, proxy, options, &progress);
+    Expected<VertexBakeStage> sampled =
+        bake_vertex_sample(mesh, image, proxy, options, &progress, scene);
     if (!sampled) return detail::as_input(sampled.error());
     if (progress.cancelled()) return cancelled_error();
     release();
@@ -63,13 +64,23 @@ Status validate_options(const VertexBakeOptions& options) {
 Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, const ImageView& image,
                                           const Proxy& proxy, const VertexBakeOptions& options,
                                           const RunOptions& run) {
-  return bake(mesh, image, proxy, options, run, [] {});
+  return bake(mesh, image, proxy, options, run, nullptr, [] {});
 }
 
 Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, Image&& image, const Proxy& proxy,
                                           const VertexBakeOptions& options, const RunOptions& run) {
   Image owned = std::move(image);
-  return bake(mesh, owned.view(), proxy, options, run, [&] { owned = Image{}; });
+  return bake(mesh, owned.view(), proxy, options, run, nullptr, [&] { owned = Image{}; });
+}
+
+Expected<VertexColors> detail::bake_vertex_colors_on(const MeshData& mesh, const ImageView& image,
+                                                     Image* owned, const Proxy& proxy,
+                                                     const VertexBakeOptions& options,
+                                                     const RunOptions& run,
+                                                     const EmbreeScene* scene) {
+  return bake(mesh, image, proxy, options, run, scene, [&] {
+    if (owned) *owned = Image{};
+  });
 }
 
 }  // namespace texbake

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bake/trace/embree_scene.h"
 #include "texbake/texbake.h"
 
 namespace texbake {
@@ -429,6 +430,9 @@ TEST_F(BatchRun, JobsShareTheMeshAndTextureTheyReadAndWriteTheSameBytes) {
   EXPECT_EQ(counts.mesh_hits, 3u);
   EXPECT_EQ(counts.image_reads, 2u);  // the fourth job's colour space
   EXPECT_EQ(counts.image_hits, 2u);
+  // The three vertex bakes test visibility on one scene, built by the first.
+  EXPECT_EQ(counts.scene_builds, 1u);
+  EXPECT_EQ(counts.scene_hits, 2u);
   for (std::size_t i = 0; i < jobs.size(); ++i) {
     Expected<std::vector<JobSetting>> settings = job_settings_from_json(jobs[i].json);
     ASSERT_TRUE(settings);
@@ -456,6 +460,16 @@ TEST_F(BatchRun, ACachedFileChangedOnDiskIsReadAgain) {
   Expected<std::shared_ptr<const LoadedMesh>> again = cache.mesh(mesh);
   ASSERT_TRUE(again);
   EXPECT_EQ(first->get(), again->get());  // the same object
+  // The held mesh's scene: built once, then the same scene.
+  bool built = false;
+  Expected<std::shared_ptr<const EmbreeScene>> scene = cache.scene(*first, &built);
+  ASSERT_TRUE(scene);
+  ASSERT_NE(scene->get(), nullptr);
+  EXPECT_TRUE(built);
+  Expected<std::shared_ptr<const EmbreeScene>> scene_again = cache.scene(*first, &built);
+  ASSERT_TRUE(scene_again);
+  EXPECT_EQ(scene_again->get(), scene->get());
+  EXPECT_FALSE(built);
   // Another mesh at the same path (a tetrahedron, 4 vertices), written later.
   std::ofstream(mesh) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
                          "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
@@ -465,6 +479,12 @@ TEST_F(BatchRun, ACachedFileChangedOnDiskIsReadAgain) {
   EXPECT_EQ((*changed)->mesh.positions.size(), 4u);
   EXPECT_EQ(cache.counts().mesh_reads, 2u);
   EXPECT_EQ(cache.counts().mesh_hits, 1u);
+  // The old mesh is no longer held: no scene for it (the caller builds its own).
+  Expected<std::shared_ptr<const EmbreeScene>> stale = cache.scene(*first);
+  ASSERT_TRUE(stale);
+  EXPECT_EQ(stale->get(), nullptr);
+  EXPECT_EQ(cache.counts().scene_builds, 1u);
+  EXPECT_EQ(cache.counts().scene_hits, 1u);
   // A file that cannot be read is the reader's error, and not cached.
   EXPECT_FALSE(cache.mesh(dir_ / "missing.off"));
   EXPECT_FALSE(cache.image(dir_ / "missing.png", {}));
