@@ -25,6 +25,7 @@
 #include "mesh_io/atomic_file.h"
 #include "mesh_io/camera_formats.h"
 #include "mesh_io/colmap_model.h"
+#include "mesh_io/point_pairs.h"
 #include "texbake/geometry_options.h"
 #include "texbake/report.h"
 #include "texbake/texbake.h"
@@ -36,6 +37,7 @@ namespace {
 struct CamerasArgs {
   std::string mesh, cameras, images, masks;
   bool json = false;
+  bool no_photos = false;
   int threads = 0;
 };
 
@@ -49,8 +51,9 @@ void print_notes(const std::vector<std::string>& notes) {
 }
 
 int run_check(const CamerasArgs& a) {
-  // Only the poses and photo sizes are needed, which the model holds: no
-  // photos folder (and no photo) is needed.
+  // The poses and photo sizes, which the model holds, are all the geometric
+  // checks need; only the photo-consistency figures read the photos (and
+  // are left out, with a note, when none can be read).
   std::vector<std::string> notes;
   Expected<std::vector<Photo>> photos =
       read_cameras(a.cameras, a.images, PhotoFolder::kNotNeeded, &notes);
@@ -79,6 +82,35 @@ int run_check(const CamerasArgs& a) {
   // The model's sparse points against the mesh (a COLMAP model with points3D).
   Expected<ModelAlignment> alignment = check_model_alignment(mesh->mesh, a.cameras, run);
   if (!alignment) return report_mesh_error(alignment.error(), a.mesh);
+  // Photo-consistency where the views overlap, after the exposure gains:
+  // the photo bake's own figures (the photos read one at a time; the fill
+  // left out). Not measured with --no-photos, for fewer than two photos, or
+  // when no photo can be read (a note says why).
+  std::optional<PhotoColors> agreement;
+  std::string not_measured;
+  if (!a.no_photos && photos->size() >= 2) {
+    PhotoBakeOptions o;
+    o.occluded = OccludedMode::kColor;
+    o.consistency_warning = false;  // its warning is given below
+    Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh->mesh, *photos, o, run);
+    if (baked) {
+      agreement = std::move(*baked);
+    } else if (baked.error().code == ErrorCode::kInternal) {
+      return report_mesh_error(baked.error(), a.mesh);
+    } else {
+      // No photo can be read, or one of the wrong size: the geometric
+      // figures stand without the photos.
+      not_measured = baked.error().message;
+    }
+  }
+  // The bake's figures of camera `name` (null: not measured, or left out).
+  const auto agreement_of = [&](const std::string& name) -> const PhotoCameraStats* {
+    if (!agreement) return nullptr;
+    for (const PhotoCameraStats& c : agreement->cameras) {
+      if (c.name == name) return &c;
+    }
+    return nullptr;
+  };
   if (a.json) {
     nlohmann::ordered_json j = nlohmann::ordered_json::array();
     for (const CameraCheck& c : *checks) {
@@ -89,28 +121,62 @@ int run_check(const CamerasArgs& a) {
                    {"has_mask", c.has_mask},
                    {"visible", c.visible},
                    {"warnings", c.warnings}});
+      if (const PhotoCameraStats* p = agreement_of(c.name)) {
+        nlohmann::ordered_json& last = j.back();
+        last["shared"] = p->shared;
+        last["deviation"] = p->deviation;
+        last["gain"] = p->gain;
+      }
     }
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     // With --masks, a "masked" column: inside the photo but masked out (a
     // photo without a mask file: "-").
-    if (masks) {
-      std::printf("%-32s %9s %9s %9s %9s\n", "image", "in front", "inside", "masked", "visible");
-    } else {
-      std::printf("%-32s %9s %9s %9s\n", "image", "in front", "inside", "visible");
-    }
+    // With the photos, "shared" (vertices it sees with another photo),
+    // "deviation" (its mean relative deviation from their consensus) and
+    // "gain" (its mean exposure gain); "-" for a photo left out.
+    std::printf("%-32s %9s %9s", "image", "in front", "inside");
+    if (masks) std::printf(" %9s", "masked");
+    std::printf(" %9s", "visible");
+    if (agreement) std::printf(" %9s %9s %6s", "shared", "deviation", "gain");
+    std::printf("\n");
     for (const CameraCheck& c : *checks) {
       std::printf("%-32s %8.1f%% %8.1f%%", c.name.c_str(), 100 * c.in_front, 100 * c.inside);
       if (masks && c.has_mask) std::printf(" %8.1f%%", 100 * c.masked);
       if (masks && !c.has_mask) std::printf(" %9s", "-");
-      std::printf(" %8.1f%%\n", 100 * c.visible);
+      std::printf(" %8.1f%%", 100 * c.visible);
+      if (const PhotoCameraStats* p = agreement_of(c.name)) {
+        std::printf(" %9zu %8.1f%% %6.2f", p->shared, 100 * p->deviation,
+                    (p->gain[0] + p->gain[1] + p->gain[2]) / 3);
+      } else if (agreement) {
+        std::printf(" %9s %9s %6s", "-", "-", "-");
+      }
+      std::printf("\n");
     }
   }
   if (!a.json && alignment->verdict != AlignmentVerdict::kNotMeasured) {
     std::printf("model alignment: %s: %s\n", to_string(alignment->verdict),
                 alignment_figures(*alignment).c_str());
   }
+  if (!a.json && agreement) {
+    std::printf("photo agreement: %s\n", consistency_figures(agreement->consistency).c_str());
+  }
   std::fflush(stdout);
+  if (!not_measured.empty()) {
+    std::fprintf(stderr, "texbake: note: photo agreement not measured: %s\n", not_measured.c_str());
+  }
+  if (agreement) {
+    for (const std::string& w : agreement->stats.warnings) {
+      std::fprintf(stderr, "texbake: warning: %s\n", w.c_str());
+    }
+    if (!photo_consistency_warning(agreement->consistency).empty()) {
+      std::fprintf(stderr,
+                   "texbake: warning: %s: the photos disagree on the mesh (%s): are the cameras "
+                   "in the mesh's frame and their poses right? (texbake cameras align, texbake "
+                   "cameras refine)\n",
+                   a.cameras.c_str(), consistency_figures(agreement->consistency).c_str());
+    }
+  }
   if (alignment->verdict == AlignmentVerdict::kMisaligned ||
       alignment->verdict == AlignmentVerdict::kDoubtful) {
     std::fprintf(stderr, "texbake: warning: %s: the model %s in the frame of %s: %s\n",
@@ -145,9 +211,10 @@ Status check_model_output(std::vector<NamedFile> inputs, const std::filesystem::
   return ok_status();
 }
 
-// texbake cameras align MESH --cameras MODEL -o OUT [--transform M] [--binary]
+// texbake cameras align MESH --cameras MODEL -o OUT [--transform M |
+// --correspondences FILE] [--binary]
 struct AlignArgs {
-  std::string mesh, cameras, output, transform;
+  std::string mesh, cameras, output, transform, correspondences;
   bool binary = false;
   int threads = 0;
 };
@@ -190,6 +257,7 @@ int run_align(const AlignArgs& a) {
   const fs::path out = a.output;
   std::vector<NamedFile> inputs = camera_files(a.cameras, {}, "--cameras");
   inputs.push_back({"MESH", a.mesh});
+  if (!a.correspondences.empty()) inputs.push_back({"--correspondences", a.correspondences});
   if (Status s = check_model_output(inputs, out); !s) return report_error(s.error());
   std::error_code ec;
   if (!fs::is_directory(a.cameras, ec)) {
@@ -199,10 +267,25 @@ int run_align(const AlignArgs& a) {
                             "convert writes one from the other formats)");
   }
   std::optional<Similarity> given;
+  std::size_t paired_line = 0, paired_count = 0;
   if (!a.transform.empty()) {
     Expected<Similarity> t = parse_transform(a.transform);
     if (!t) return report_error(t.error());
     given = *t;
+  }
+  std::optional<PairFit> paired;
+  if (!a.correspondences.empty()) {
+    Expected<PointPairs> pairs = read_point_pairs(a.correspondences);
+    if (!pairs) return report_error(pairs.error());
+    Expected<PairFit> f = similarity_from_pairs(pairs->model, pairs->mesh);
+    if (!f) {
+      // The file's content: exit 1, as a file that does not parse.
+      return report_error(ErrorCode::kParse, a.correspondences + ": " + f.error().message);
+    }
+    paired = *f;
+    paired_line = pairs->lines[f->worst];
+    paired_count = pairs->model.size();
+    given = f->transform;
   }
   Expected<std::vector<ColmapImage>> images = read_colmap_model(a.cameras);
   if (!images) return report_error(images.error());
@@ -212,6 +295,7 @@ int run_align(const AlignArgs& a) {
   run.threads = a.threads;
   Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
   if (!mesh) return report_error(mesh.error());
+  const double mesh_size = bounding_diagonal(mesh->mesh);
 
   ModelFit fit;
   if (given) {
@@ -263,6 +347,21 @@ int run_align(const AlignArgs& a) {
   if (fit.before.verdict != AlignmentVerdict::kNotMeasured) {
     std::printf("before: %s\nafter: %s\n", alignment_figures(fit.before).c_str(),
                 alignment_figures(fit.after).c_str());
+  }
+  if (paired) {
+    auto percent = [&](double d) { return mesh_size > 0 ? 100 * d / mesh_size : 0.0; };
+    std::printf(
+        "correspondences: %zu pairs, RMS %.6g (%.3g %% of the mesh's size), largest %.6g "
+        "(line %zu)\n",
+        paired_count, paired->rms, percent(paired->rms), paired->largest, paired_line);
+    if (paired->rms > kAlignmentNearDistance * mesh_size) {
+      std::fprintf(stderr,
+                   "texbake: warning: %s: the pairs do not agree on one similarity: RMS %.3g %% "
+                   "of the mesh's size, the largest %.3g %% at line %zu (a mistyped or "
+                   "misplaced pair?)\n",
+                   a.correspondences.c_str(), percent(paired->rms), percent(paired->largest),
+                   paired_line);
+    }
   }
   return 0;
 }
@@ -515,14 +614,18 @@ RunFunction add_cameras_command(CLI::App& app) {
           "AliceVision .sfm (as bake --cameras)")
       ->required();
   check->add_option("--images", args->images,
-                    "the photos' folder (not needed: the check reads no photo; accepted as in "
-                    "bake --cameras)");
+                    "the photos' folder, as bake --cameras finds it (only the photo-consistency "
+                    "figures read the photos; the rest needs none)");
   check->add_option("--masks", args->masks,
                     "the photos' masks in COLMAP's convention (DIR/<image name>.png, 0 = masked "
                     "out, as bake --masks): the visible share counts only vertices on unmasked "
                     "pixels, and a column 'masked' gives the share inside the photo but masked "
                     "out");
   check->add_flag("--json", args->json, "print the table as JSON");
+  check->add_flag("--no-photos", args->no_photos,
+                  "do not read the photos: no photo-consistency figures (shared, deviation, "
+                  "gain and the photo agreement line; by default they are measured as a photo "
+                  "bake measures them when two photos or more can be read)");
   check->add_option("--threads", args->threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 4096));
   CLI::App* convert = cmd->add_subcommand(
@@ -551,8 +654,9 @@ RunFunction add_cameras_command(CLI::App& app) {
       "align",
       "Bring a COLMAP model into the mesh's frame: the similarity (scale, rotation, "
       "translation) that puts its sparse points on the mesh's surface (found from the points' "
-      "principal axes and refined by trimmed ICP with scale), or the one --transform gives, "
-      "applied to every pose and point; written as a COLMAP model.");
+      "principal axes and refined by trimmed ICP with scale), the one --transform gives, or "
+      "the one that best fits the point pairs of --correspondences (for a model without "
+      "sparse points), applied to every pose and point; written as a COLMAP model.");
   align->add_option("mesh", align_args->mesh, "the mesh (.obj, .ply, .off, .stl, .glb, .gltf)")
       ->required();
   align->add_option("--cameras", align_args->cameras, "the COLMAP sparse model folder to align")
@@ -562,11 +666,19 @@ RunFunction add_cameras_command(CLI::App& app) {
                    "the aligned model's folder (created if missing; a model of the other form "
                    "there is replaced)")
       ->required();
+  CLI::Option* transform =
+      align
+          ->add_option("--transform", align_args->transform,
+                       "a known similarity instead of the fit: a 4x4 matrix, 16 numbers row by "
+                       "row (model to mesh; the last row 0,0,0,1), as align prints it")
+          ->type_name("M00,M01,...,M33");
   align
-      ->add_option("--transform", align_args->transform,
-                   "a known similarity instead of the fit: a 4x4 matrix, 16 numbers row by row "
-                   "(model to mesh; the last row 0,0,0,1), as align prints it")
-      ->type_name("M00,M01,...,M33");
+      ->add_option("--correspondences", align_args->correspondences,
+                   "the similarity of point pairs instead of the fit (least squares, Umeyama): "
+                   "a text file, one pair a line, the model's x y z then the mesh's X Y Z "
+                   "(spaces or commas; '#' comments); at least 3 points not on a line")
+      ->type_name("FILE")
+      ->excludes(transform);
   align->add_flag("--binary", align_args->binary,
                   "write cameras.bin, images.bin, points3D.bin (default: the .txt files)");
   align->add_option("--threads", align_args->threads, "worker threads (default: all cores)")

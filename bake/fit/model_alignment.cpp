@@ -72,7 +72,7 @@ Status build_surface(const MeshData& mesh, Surface& s) {
     s.hi = {std::max(s.hi.x, double{p.x}), std::max(s.hi.y, double{p.y}),
             std::max(s.hi.z, double{p.z})};
   }
-  s.diagonal = length(s.hi - s.lo);
+  s.diagonal = bounding_diagonal(mesh);
   s.tree.insert(s.triangles.begin(), s.triangles.end());
   s.tree.build();
   s.tree.accelerate_distance_queries();
@@ -138,6 +138,16 @@ Expected<ModelAlignment> measure_model_alignment(const MeshData& mesh, std::span
   Surface surface;
   if (Status s = build_surface(mesh, surface); !s) return s.error();
   return measure_on(surface, points, threads);
+}
+
+double bounding_diagonal(const MeshData& mesh) {
+  if (mesh.positions.empty()) return 0;
+  Vec3 lo{mesh.positions[0].x, mesh.positions[0].y, mesh.positions[0].z}, hi = lo;
+  for (const Float3& p : mesh.positions) {
+    lo = {std::min(lo.x, double{p.x}), std::min(lo.y, double{p.y}), std::min(lo.z, double{p.z})};
+    hi = {std::max(hi.x, double{p.x}), std::max(hi.y, double{p.y}), std::max(hi.z, double{p.z})};
+  }
+  return length(hi - lo);
 }
 
 std::string alignment_figures(const ModelAlignment& a) {
@@ -304,6 +314,52 @@ Expected<Similarity> similarity_from_matrix(std::span<const double> m, const std
         "and of equal length)");
   }
   return similarity_of(scale, r, Eigen::Vector3d(m[3], m[7], m[11]));
+}
+
+Expected<PairFit> similarity_from_pairs(std::span<const Vec3> model, std::span<const Vec3> mesh) {
+  auto bad = [](const std::string& why) { return make_error(ErrorCode::kInvalidArgument, why); };
+  if (model.size() != mesh.size()) return bad("the model's and the mesh's points differ in number");
+  if (model.size() < 3) {
+    return bad(std::to_string(model.size()) + " point pairs: at least 3 are needed");
+  }
+  const auto n = static_cast<Eigen::Index>(model.size());
+  Eigen::Matrix3Xd src(3, n), dst(3, n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Vec3 a = model[static_cast<std::size_t>(k)], b = mesh[static_cast<std::size_t>(k)];
+    src.col(k) << a.x, a.y, a.z;
+    dst.col(k) << b.x, b.y, b.z;
+  }
+  if (!src.allFinite() || !dst.allFinite()) return bad("a point is not finite");
+  // Umeyama needs each side spread over a plane at least.
+  for (const auto* side : {&src, &dst}) {
+    const Eigen::Matrix3Xd centred = side->colwise() - side->rowwise().mean();
+    const Eigen::JacobiSVD<Eigen::Matrix3Xd> svd(centred);
+    const Eigen::Vector3d sv = svd.singularValues();
+    if (!(sv(1) > 1e-6 * sv(0))) {
+      return bad(std::string("the ") + (side == &src ? "model's" : "mesh's") +
+                 " points lie on one line (or at one place): at least 3 not on a line are "
+                 "needed");
+    }
+  }
+  const Eigen::Matrix4d m = Eigen::umeyama(src, dst, true);
+  const Eigen::Matrix3d sr = m.topLeftCorner<3, 3>();
+  const double scale = std::cbrt(sr.determinant());
+  if (!(scale > 0) || !std::isfinite(scale)) {
+    return make_error(ErrorCode::kInternal, "the pairs' similarity has no positive scale");
+  }
+  PairFit fit;
+  fit.transform = similarity_of(scale, sr / scale, m.topRightCorner<3, 1>());
+  double sum = 0;
+  for (std::size_t k = 0; k < model.size(); ++k) {
+    const double d = length(fit.transform.apply(model[k]) - mesh[k]);
+    sum += d * d;
+    if (d > fit.largest) {
+      fit.largest = d;
+      fit.worst = k;
+    }
+  }
+  fit.rms = std::sqrt(sum / static_cast<double>(model.size()));
+  return fit;
 }
 
 Expected<CameraProjector> transform_camera(const CameraProjector& camera, const Similarity& s) {

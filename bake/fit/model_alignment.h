@@ -57,6 +57,9 @@ struct ModelAlignment {
 Expected<ModelAlignment> measure_model_alignment(const MeshData& mesh, std::span<const Vec3> points,
                                                  int threads = 0);
 
+// The diagonal of the bounding box of the mesh's vertices (D above).
+double bounding_diagonal(const MeshData& mesh);
+
 // "N of M sparse points in the mesh's box, P % of them within 1 % of its
 // size of the surface (median distance Q % of its size)".
 std::string alignment_figures(const ModelAlignment& a);
@@ -90,6 +93,23 @@ Expected<Similarity> similarity_from_matrix(std::span<const double> m, const std
 // world-to-camera pose R_c, t_c becomes R_c R^T, scale t_c - R_c R^T t (the
 // centre C becomes s(C)); the intrinsics are kept.
 Expected<CameraProjector> transform_camera(const CameraProjector& camera, const Similarity& s);
+
+// The least-squares similarity taking each model[i] onto mesh[i] (Umeyama's
+// closed form, Eigen) and how well the pairs agree with it: the RMS and the
+// largest of |s(model[i]) - mesh[i]| and the index of that largest one.
+struct PairFit {
+  Similarity transform;  // model -> mesh
+  double rms = 0;
+  double largest = 0;
+  std::size_t worst = 0;
+};
+
+// Errors (kInvalidArgument): the spans differ in size, fewer than 3 pairs,
+// a point not finite, either side's points on one line or at one place
+// (their spread's second axis below 1e-6 of the first: the rotation about
+// that line is not determined). The rotation is always proper (Umeyama's
+// sign correction): pairs of a mirrored frame show as large residuals.
+Expected<PairFit> similarity_from_pairs(std::span<const Vec3> model, std::span<const Vec3> mesh);
 
 struct ModelFit {
   Similarity transform;    // model -> mesh

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numbers>
 #include <span>
 
@@ -39,6 +40,15 @@ constexpr int kMaxParams = 10;      // 6 pose + fx fy cx cy
 struct Level {
   int w = 0, h = 0;
   std::vector<uint16_t> rgb;
+  // A masked photo's alpha (photo_bake.h "Masks"; a coarser texel: the mean
+  // of the four below it), the colours then straight (not premultiplied: a
+  // coarser texel is the alpha-weighted mean of the colours below it). Empty:
+  // the photo has no mask. A sample is taken only where the four texels it
+  // interpolates all have some alpha: a masked-out pixel is never used.
+  std::vector<float> alpha;
+  bool covered(int x, int y) const {
+    return alpha.empty() || alpha[static_cast<std::size_t>(y) * w + x] > 0;
+  }
   float at(int x, int y, int ch) const {
     return rgb[3 * (static_cast<std::size_t>(y) * w + x) + ch] * (1.0f / 65535.0f);
   }
@@ -55,40 +65,61 @@ int level_count(int w, int h) {
   return levels;
 }
 
+uint16_t to_u16(float v) {
+  return static_cast<uint16_t>(std::clamp(v, 0.0f, 1.0f) * 65535.0f + 0.5f);
+}
+
 // Level 0 is the photo; each next one the 2x2 box mean of the one before (an
 // odd last row or column dropped), so that texel j of level L covers photo
-// pixels [j 2^L, (j + 1) 2^L).
-Pyramid make_pyramid(const PhotoImage& image, double sx, double sy, int levels) {
+// pixels [j 2^L, (j + 1) 2^L). `masked`: the photo's colours are
+// premultiplied by its alpha (load_photo), which the levels keep apart.
+Pyramid make_pyramid(const PhotoImage& image, bool masked, double sx, double sy, int levels) {
   Pyramid p;
   p.sx = sx, p.sy = sy;
   p.levels.resize(static_cast<std::size_t>(levels));
   Level& base = p.levels[0];
   base.w = image.width, base.h = image.height;
-  base.rgb.resize(3 * static_cast<std::size_t>(base.w) * base.h);
-  parallel_for_chunks(static_cast<std::size_t>(base.w) * base.h, 1 << 14,
-                      [&](std::size_t b, std::size_t e) {
-                        for (std::size_t i = b; i < e; ++i) {
-                          for (int ch = 0; ch < 3; ++ch) {
-                            const float v = std::clamp(image.pixels[4 * i + ch], 0.0f, 1.0f);
-                            base.rgb[3 * i + ch] = static_cast<uint16_t>(v * 65535.0f + 0.5f);
-                          }
-                        }
-                      });
+  const std::size_t n = static_cast<std::size_t>(base.w) * base.h;
+  base.rgb.resize(3 * n);
+  if (masked) base.alpha.resize(n);
+  parallel_for_chunks(n, 1 << 14, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const float a = masked ? image.pixels[4 * i + 3] : 1.0f;
+      if (masked) base.alpha[i] = a;
+      for (int ch = 0; ch < 3; ++ch) {
+        base.rgb[3 * i + ch] = a > 0 ? to_u16(image.pixels[4 * i + ch] / a) : 0;
+      }
+    }
+  });
   for (int l = 1; l < levels; ++l) {
     const Level& f = p.levels[l - 1];
     Level& c = p.levels[l];
     c.w = std::max(1, f.w / 2), c.h = std::max(1, f.h / 2);
     c.rgb.resize(3 * static_cast<std::size_t>(c.w) * c.h);
+    if (masked) c.alpha.resize(static_cast<std::size_t>(c.w) * c.h);
     for (int y = 0; y < c.h; ++y) {
       const int y0 = std::min(2 * y, f.h - 1), y1 = std::min(2 * y + 1, f.h - 1);
       for (int x = 0; x < c.w; ++x) {
         const int x0 = std::min(2 * x, f.w - 1), x1 = std::min(2 * x + 1, f.w - 1);
+        const std::size_t out = static_cast<std::size_t>(y) * c.w + x;
+        const std::size_t in[4] = {
+            static_cast<std::size_t>(y0) * f.w + x0, static_cast<std::size_t>(y0) * f.w + x1,
+            static_cast<std::size_t>(y1) * f.w + x0, static_cast<std::size_t>(y1) * f.w + x1};
+        if (!masked) {
+          for (int ch = 0; ch < 3; ++ch) {
+            unsigned sum = 2;
+            for (std::size_t k : in) sum += f.rgb[3 * k + ch];
+            c.rgb[3 * out + ch] = static_cast<uint16_t>(sum / 4);
+          }
+          continue;
+        }
+        float weight = 0;
+        for (std::size_t k : in) weight += f.alpha[k];
+        c.alpha[out] = weight / 4;
         for (int ch = 0; ch < 3; ++ch) {
-          const auto v = [&](int xx, int yy) {
-            return static_cast<unsigned>(f.rgb[3 * (static_cast<std::size_t>(yy) * f.w + xx) + ch]);
-          };
-          c.rgb[3 * (static_cast<std::size_t>(y) * c.w + x) + ch] =
-              static_cast<uint16_t>((v(x0, y0) + v(x1, y0) + v(x0, y1) + v(x1, y1) + 2) / 4);
+          float sum = 0;
+          for (std::size_t k : in) sum += f.alpha[k] * f.rgb[3 * k + ch] * (1.0f / 65535.0f);
+          c.rgb[3 * out + ch] = weight > 0 ? to_u16(sum / weight) : 0;
         }
       }
     }
@@ -100,11 +131,16 @@ Pyramid make_pyramid(const PhotoImage& image, double sx, double sy, int levels) 
 // gx/gy, its gradient: the central differences of the four texels around,
 // interpolated bilinearly (smooth across texel boundaries, unlike the
 // derivative of the bilinear interpolant). False outside [1, w - 2] x [1, h
-// - 2], where the differences would need texels beyond the edge.
+// - 2], where the differences would need texels beyond the edge, and for a
+// masked photo where one of the four texels interpolated has alpha 0.
 bool sample_level(const Level& l, double x, double y, double rgb[3], double* gx, double* gy) {
   if (!(x >= 1 && y >= 1 && x <= l.w - 2 && y <= l.h - 2)) return false;
   const int x0 = std::min(static_cast<int>(x), l.w - 3),
             y0 = std::min(static_cast<int>(y), l.h - 3);
+  if (!(l.covered(x0, y0) && l.covered(x0 + 1, y0) && l.covered(x0, y0 + 1) &&
+        l.covered(x0 + 1, y0 + 1))) {
+    return false;
+  }
   const double fx = x - x0, fy = y - y0;
   const double w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
   for (int ch = 0; ch < 3; ++ch) {
@@ -273,6 +309,11 @@ class Refiner {
   const std::array<double, 3>& gain(std::size_t c) const { return gain_[c]; }
   int iterations(std::size_t c) const { return iterations_[c]; }
   bool clamped(std::size_t c) const { return clamped_[c] != 0; }
+  // Back to the input poses (the refinement is dropped; its steps counted).
+  void reset() {
+    state_ = initial_;
+    std::fill(clamped_.begin(), clamped_.end(), 0);
+  }
 
   // The pairs (point, photo) of `level`: the points each photo sees at its
   // current pose, away from depth discontinuities. Returns the number of
@@ -557,11 +598,14 @@ void Refiner::update_sigmas_and_weights() {
 }
 
 void Refiner::measure(int level, std::vector<double>& rms, std::vector<std::size_t>& count) {
+  // A function of the poses alone (the gains solved from 1, the same
+  // rounds): before and after are measured alike.
   for (std::size_t c = 0; c < cams_; ++c) sample_camera(c, level);
+  gain_.assign(cams_, {1, 1, 1});
   pair_in_ = pair_ok_;
-  solve_consensus(3);
+  solve_consensus(6);
   update_sigmas_and_weights();
-  solve_consensus(2);
+  solve_consensus(4);
   rms.assign(cams_, 0);
   count.assign(cams_, 0);
   for (std::size_t c = 0; c < cams_; ++c) {
@@ -880,6 +924,7 @@ Expected<PoseRefineResult> refine_poses(const MeshData& mesh, const std::vector<
   std::vector<CamState> states;
   int levels = kMaxLevels;
   std::vector<PhotoImage> images;
+  std::vector<bool> masked;  // the photo has a mask (alpha below 1 somewhere)
   for (std::size_t p = 0; p < photos.size(); ++p) {
     const Photo& photo = photos[p];
     PhotoCameraStats stats;
@@ -896,6 +941,7 @@ Expected<PoseRefineResult> refine_poses(const MeshData& mesh, const std::vector<
     }
     levels = std::min(levels, level_count(image->width, image->height));
     used.push_back(p);
+    masked.push_back(stats.masked);
     images.push_back(std::move(*image));
   }
   if (used.empty()) return photo_detail::no_usable_photo_error(result.skipped);
@@ -907,7 +953,7 @@ Expected<PoseRefineResult> refine_poses(const MeshData& mesh, const std::vector<
     const CameraProjector& camera = photos[used[u]].camera;
     const double sx = static_cast<double>(images[u].width) / camera.spec().width;
     const double sy = static_cast<double>(images[u].height) / camera.spec().height;
-    pyramids.push_back(make_pyramid(images[u], sx, sy, levels));
+    pyramids.push_back(make_pyramid(images[u], masked[u], sx, sy, levels));
     images[u] = {};
     lenses.push_back(lens_of(camera));
     states.push_back(state_of(camera, lenses.back()));
@@ -935,6 +981,33 @@ Expected<PoseRefineResult> refine_poses(const MeshData& mesh, const std::vector<
   }
   refiner.build_pairs(0);
   refiner.measure(0, rms_after, n_after);
+  // Never worse than the start: when the RMS over every photo's samples at
+  // the finest level did not fall, the photometric optimum the steps found
+  // is not a better pose (photos too small, aliased or bare for their
+  // texture to pin it) and the input poses are kept.
+  const auto overall = [&](const std::vector<double>& rms, const std::vector<std::size_t>& n) {
+    double sum = 0, count = 0;
+    for (std::size_t u = 0; u < cams; ++u) {
+      sum += rms[u] * rms[u] * static_cast<double>(n[u]);
+      count += static_cast<double>(n[u]);
+    }
+    return count > 0 ? std::sqrt(sum / count) : 0.0;
+  };
+  const double overall_before = overall(rms_before, n_before);
+  const double overall_after = overall(rms_after, n_after);
+  if (!(overall_after < overall_before)) {
+    refiner.reset();
+    refiner.build_pairs(0);
+    refiner.measure(0, rms_after, n_after);
+    char figures[96];
+    std::snprintf(figures, sizeof figures, "%.4g -> %.4g", overall_before, overall_after);
+    result.warnings.push_back(
+        std::string("the refinement did not make the photos agree better (RMS over every "
+                    "photo's samples ") +
+        figures +
+        "): the input poses are kept (photos too small, blurred or aliased, or too little "
+        "texture, to pin the poses)");
+  }
   if (is_cancelled(progress)) return cancelled_error();
   if (progress) progress->finish();
 

@@ -31,7 +31,9 @@
 // eight rays from the centre at a radius of 2 + 2^(level+1) pixels around
 // the point's projection must hit the point's tangent plane within 2 % of
 // its depth (an occluding contour, or the background behind a silhouette,
-// fails that). Only points seen by two photos or more count.
+// fails that). Only points seen by two photos or more count. A photo's
+// alpha is its mask (photo_bake.h "Masks"): a sample whose bilinear
+// footprint has a pixel of alpha 0 is not taken.
 // Bounds: a photo's rotation may change by at most max_rotation_deg and its
 // centre move by at most max_translation times the mesh's size (its
 // bounding-box diagonal); a step past either is clamped onto the bound and

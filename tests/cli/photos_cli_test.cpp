@@ -471,8 +471,12 @@ TEST_F(PhotosCli, CamerasCheckNeedsNoPhotos) {
   const testing_cli::RunResult loose =
       run_texbake("cameras check " + bunny + " --cameras " + q(d / "loose") + " --json");
   ASSERT_EQ(loose.exit_code, 0) << loose.err;
-  const testing_cli::RunResult ws =
-      run_texbake("cameras check " + bunny + " --cameras " + q(d / "ws/sparse/0") + " --json");
+  // Without its photos only the photo-consistency figures are missing, with a note.
+  EXPECT_NE(loose.err.find("texbake: note: photo agreement not measured: no usable photo"),
+            std::string::npos)
+      << loose.err;
+  const testing_cli::RunResult ws = run_texbake("cameras check " + bunny + " --cameras " +
+                                                q(d / "ws/sparse/0") + " --json --no-photos");
   ASSERT_EQ(ws.exit_code, 0) << ws.err;
   EXPECT_EQ(loose.out, ws.out);
   EXPECT_EQ(nlohmann::json::parse(loose.out).size(), 6u);
@@ -481,6 +485,52 @@ TEST_F(PhotosCli, CamerasCheckNeedsNoPhotos) {
       run_texbake("bake " + bunny + " --cameras " + q(d / "loose") + " -o " + q(d / "l.ply"));
   EXPECT_EQ(bake.exit_code, 2) << bake.err;
   EXPECT_NE(bake.err.find("give the photos' folder with --images"), std::string::npos) << bake.err;
+}
+
+// Photo-consistency in cameras check: the true poses' photos agree (an
+// unlit render: the same colour from every view, gains 1); the same model
+// with each camera given the next camera's photo disagrees, with a warning.
+TEST_F(PhotosCli, CamerasCheckMeasuresHowWellThePhotosAgree) {
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  testing_cli::RunResult r =
+      run_texbake("cameras check " + bunny + " --cameras " + q(d / "ws/sparse/0") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  const nlohmann::json checks = nlohmann::json::parse(r.out);
+  ASSERT_EQ(checks.size(), 6u);
+  for (const nlohmann::json& c : checks) {
+    EXPECT_GT(c["shared"].get<std::size_t>(), 1000u) << c.dump();
+    EXPECT_LT(c["deviation"].get<double>(), 0.05) << c.dump();
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(c["gain"][ch].get<double>(), 1.0, 0.05) << c.dump();
+  }
+  // The text table: its columns and the model's line.
+  r = run_texbake("cameras check " + bunny + " --cameras " + q(d / "ws/sparse/0"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("visible    shared deviation   gain"), std::string::npos) << r.out;
+  const std::size_t line = r.out.find("photo agreement: ");
+  ASSERT_NE(line, std::string::npos) << r.out;
+  EXPECT_GE(std::stoi(r.out.substr(line + 17)), 90) << r.out;  // percent agreeing
+  r = run_texbake("cameras check " + bunny + " --cameras " + q(d / "ws/sparse/0") + " --no-photos");
+  EXPECT_EQ(r.out.find("photo agreement"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("shared"), std::string::npos) << r.out;
+
+  // Camera k with photo k + 1: the geometry is the same, the photos are not.
+  Expected<std::vector<ColmapImage>> model = read_colmap_model(d / "ws/sparse/0");
+  ASSERT_TRUE(model);
+  std::vector<ColmapImage> swapped = *model;
+  for (std::size_t k = 0; k < swapped.size(); ++k) {
+    swapped[k].name = (*model)[(k + 1) % swapped.size()].name;
+  }
+  ASSERT_TRUE(write_colmap_model(d / "swapped/sparse/0", swapped, false));
+  r = run_texbake("cameras check " + bunny + " --cameras " + q(d / "swapped/sparse/0") +
+                  " --images " + q(d / "ws/images"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::size_t bad = r.out.find("photo agreement: ");
+  ASSERT_NE(bad, std::string::npos) << r.out;
+  EXPECT_LT(std::stoi(r.out.substr(bad + 17)), 50) << r.out;
+  EXPECT_NE(r.err.find("the photos disagree on the mesh"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("texbake cameras refine"), std::string::npos) << r.err;
 }
 
 TEST_F(PhotosCli, RenderColmapReplacesABinaryModelAndWritesAllOrNothing) {

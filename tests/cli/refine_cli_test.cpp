@@ -179,7 +179,8 @@ TEST_F(RefineCli, PerturbedPosesComeBackAndTheBakeAgreesBetter) {
   const std::vector<ColmapImage> truth_model = read_model(truth());
   // Half the issue's perturbation (0.25-0.5 degree, 0.5 % of the
   // distance: 1.6-5.6 px here). At the full 0.5-1 degree (3-11 px) the
-  // refinement does not yet converge (measured: 2-9 px left): issue 30.
+  // refinement does not yet converge (measured: 3.6-12 px left, four
+  // photos further from the truth than they started).
   const fs::path moved = write_model(d / "moved", perturbed(truth_model, 0.5));
   const auto r =
       run_texbake("cameras refine " + q(kBunny) + " --cameras " + q(moved) + " --images " +
@@ -187,7 +188,6 @@ TEST_F(RefineCli, PerturbedPosesComeBackAndTheBakeAgreesBetter) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const std::vector<ColmapImage> before = read_model(moved), after = read_model(d / "refined");
   ASSERT_EQ(after.size(), truth_model.size());
-  std::size_t below_a_pixel = 0;
   for (std::size_t k = 0; k < after.size(); ++k) {
     const CameraProjector& t = truth_model[k].camera;
     const double px_before = displacement_px(before[k].camera, t);
@@ -197,23 +197,23 @@ TEST_F(RefineCli, PerturbedPosesComeBackAndTheBakeAgreesBetter) {
     std::printf("%s: %.3f px -> %.3f px; after: %.4f deg, centre %.4f %% of the distance\n",
                 after[k].name.c_str(), px_before, px_after, deg, 100 * centre);
     EXPECT_GT(px_before, 1.5) << after[k].name;
-    // Measured: 0.27-0.87 px for four photos, 2.0 px for the photo moved
-    // most along its orbit; every photo at least halves its displacement.
-    EXPECT_LT(px_after, px_before / 2) << after[k].name;
-    below_a_pixel += px_after < 1.0;
+    // Measured (the photos' alpha masking out the background): 0.22-0.34 px.
+    EXPECT_LT(px_after, 0.6) << after[k].name;
   }
-  EXPECT_GE(below_a_pixel, 4u);
   // The report: one entry per photo with its figures.
   const nlohmann::json report = nlohmann::json::parse(testing_cli::slurp(d / "refine.json"));
   ASSERT_EQ(report["photos"].size(), after.size());
+  std::size_t clamped = 0;
   for (const auto& p : report["photos"]) {
     EXPECT_GT(p["rotation_change_deg"].get<double>(), 0.05);
     EXPECT_LT(p["residual_after"].get<double>(), p["residual_before"].get<double>());
     EXPECT_GT(p["iterations"].get<int>(), 0);
-    // (Not asserted: "clamped". Measured: three photos drift along their
-    // orbit to the default bound of 2 degrees or 5 % while their image
-    // displacement shrinks; the weak mode is an open problem, issue 30.)
+    clamped += p["clamped"].get<bool>();
   }
+  // (Not asserted: "clamped". The orbit mode, a turn about the object
+  // traded against a move of the centre, lets steps reach the default
+  // bounds while the image displacement shrinks: measured 6 of 6.)
+  std::printf("clamped: %zu of %zu\n", clamped, after.size());
   // The photo bake agrees with the direct bake on more vertices.
   const std::size_t n_truth = agreeing(d, truth(), "truth");
   const std::size_t n_moved = agreeing(d, moved, "moved");
@@ -222,8 +222,8 @@ TEST_F(RefineCli, PerturbedPosesComeBackAndTheBakeAgreesBetter) {
       "vertices within 8 levels of the direct bake: true poses %zu, moved %zu, "
       "refined %zu\n",
       n_truth, n_moved, n_refined);
-  // Measured: true poses 20158, moved 12116, refined 19021.
-  EXPECT_GT(n_refined, n_moved + (n_truth - n_moved) * 4 / 5);
+  // Measured: true poses 20345, moved 13142, refined 19883.
+  EXPECT_GT(n_refined, n_moved + (n_truth - n_moved) * 9 / 10);
 }
 
 TEST_F(RefineCli, UnperturbedPosesMoveLittle) {

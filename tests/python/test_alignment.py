@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import texbake
-from conftest import DATA, run_cli
+from conftest import DATA, read_model, run_cli
 
 BUNNY = DATA / "bunny00.off"
 
@@ -75,24 +75,6 @@ def test_a_model_without_points_is_not_checked(tmp_path, workspace):
     assert "frame" not in r.stderr
 
 
-def read_model(folder):
-    """{name: (R world-to-camera, t)} of a text model's images.txt (numpy, independent of texbake)."""
-    poses = {}
-    lines = [l for l in (folder / "images.txt").read_text().splitlines() if l and l[0] != "#"]
-    for line in lines:
-        f = line.split()
-        if len(f) != 10:
-            continue
-        qw, qx, qy, qz = map(float, f[1:5])
-        n = np.sqrt(qw * qw + qx * qx + qy * qy + qz * qz)
-        qw, qx, qy, qz = qw / n, qx / n, qy / n, qz / n
-        r = np.array([[1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qw * qz), 2 * (qx * qz + qw * qy)],
-                      [2 * (qx * qy + qw * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qw * qx)],
-                      [2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx * qx + qy * qy)]])
-        poses[f[9]] = (r, np.array(list(map(float, f[5:8]))))
-    return poses
-
-
 def test_align_brings_a_moved_model_back(tmp_path, workspace):
     """The workspace's model moved away by a known similarity (cameras align
     --transform; its centres checked against numpy's), refused by the bake,
@@ -147,3 +129,74 @@ def test_align_refusals(tmp_path, workspace):
     r = run_cli("cameras", "align", BUNNY, "--cameras", model, "-o", model)
     assert r.returncode == 2, r.stderr  # the output is the input
     assert not (tmp_path / "o").exists()
+
+
+def _pairs_file(path, model_points, mesh_points, header=True):
+    lines = ["model_x,model_y,model_z,mesh_x,mesh_y,mesh_z"] if header else []
+    lines += [",".join(repr(float(v)) for v in (*a, *b)) for a, b in zip(model_points, mesh_points)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_align_from_point_pairs(tmp_path, workspace):
+    """A model without sparse points, moved away by a known similarity, comes
+    back from five point pairs (--correspondences: the moved and the true
+    positions of five bunny vertices): its camera centres are the original's
+    (numpy), the pairs' RMS is printed; a mistyped pair is a warning naming
+    its line; too few pairs, pairs on a line and --transform with
+    --correspondences are refused."""
+    model = workspace / "sparse" / "0"
+    (model / "points3D.txt").write_text("# no points\n")
+    m = np.array([[0, -2, 0, 1], [2, 0, 0, 2], [0, 0, 2, 3], [0, 0, 0, 1]], float)
+    away = tmp_path / "away"
+    r = run_cli("cameras", "align", BUNNY, "--cameras", model, "--transform",
+                ",".join(str(v) for v in m.ravel()), "-o", away)
+    assert r.returncode == 0, r.stderr
+    vertices = texbake.read_mesh(BUNNY).vertices.astype(float)
+    picked = vertices[[0, 100, 200, 300, 400]]
+    moved = picked @ m[:3, :3].T + m[:3, 3]
+    pairs = _pairs_file(tmp_path / "pairs.csv", moved, picked)
+    back = tmp_path / "back"
+    r = run_cli("cameras", "align", BUNNY, "--cameras", away, "--correspondences", pairs,
+                "-o", back)
+    assert r.returncode == 0, r.stderr
+    assert r.stderr == ""
+    line = [l for l in r.stdout.splitlines() if l.startswith("correspondences: ")][0]
+    assert line.startswith("correspondences: 5 pairs, RMS "), line
+    assert float(line.split("RMS ")[1].split()[0]) < 1e-6, line
+    original, restored = read_model(model), read_model(back)
+    assert original.keys() == restored.keys()
+    for name, (rc, tc) in original.items():
+        r2, t2 = restored[name]
+        np.testing.assert_allclose(-r2.T @ t2, -rc.T @ tc, atol=1e-5)
+        np.testing.assert_allclose(r2, rc, atol=1e-6)
+
+    # The fourth pair (line 5, after the header) mistyped: a warning names it.
+    typo = picked.copy()
+    typo[3] += 0.05
+    r = run_cli("cameras", "align", BUNNY, "--cameras", away, "--correspondences",
+                _pairs_file(tmp_path / "typo.csv", moved, typo), "-o", tmp_path / "typo")
+    assert r.returncode == 0, r.stderr
+    assert "the pairs do not agree on one similarity" in r.stderr, r.stderr
+    assert "at line 5" in r.stderr, r.stderr
+
+    r = run_cli("cameras", "align", BUNNY, "--cameras", away, "--correspondences",
+                _pairs_file(tmp_path / "two.csv", moved[:2], picked[:2]), "-o", tmp_path / "o")
+    assert r.returncode == 1 and "2 point pairs: at least 3 are needed" in r.stderr, r.stderr
+    line_pts = np.array([[0, 0, 0], [1, 1, 1], [2, 2, 2]], float)
+    r = run_cli("cameras", "align", BUNNY, "--cameras", away, "--correspondences",
+                _pairs_file(tmp_path / "line.csv", line_pts, picked[:3]), "-o", tmp_path / "o")
+    assert r.returncode == 1 and "the model's points lie on one line" in r.stderr, r.stderr
+    r = run_cli("cameras", "align", BUNNY, "--cameras", away, "--correspondences", pairs,
+                "--transform", ",".join(str(v) for v in np.eye(4).ravel()), "-o", tmp_path / "o")
+    assert r.returncode == 2, r.stderr
+    assert not (tmp_path / "o").exists()
+    # The pairs file where the output's images.txt would go: exit 2, untouched.
+    inside = tmp_path / "inside"
+    inside.mkdir()
+    kept = _pairs_file(inside / "images.txt", moved, picked)
+    text = kept.read_text()
+    r = run_cli("cameras", "align", BUNNY, "--cameras", away, "--correspondences", kept,
+                "-o", inside)
+    assert r.returncode == 2 and "--correspondences" in r.stderr, r.stderr
+    assert kept.read_text() == text

@@ -153,6 +153,51 @@ TEST(Similarity, FromAMatrixAndItsRefusals) {
   EXPECT_NE(shear.error().message.find("not a scale times a rotation"), std::string::npos);
 }
 
+TEST(Similarity, FromPointPairsRecoversTheSimilarity) {
+  // The model's points are the corners of a unit tetrahedron and one more;
+  // the mesh's are kTwiceQuarterTurn's images, worked out by hand:
+  // (x, y, z) -> 2 (-y, x, z) + (1, 2, 3).
+  const std::vector<Vec3> model = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  const std::vector<Vec3> mesh = {{1, 2, 3}, {1, 4, 3}, {-1, 2, 3}, {1, 2, 5}, {-1, 4, 5}};
+  Expected<PairFit> fit = similarity_from_pairs(model, mesh);
+  ASSERT_TRUE(fit) << fit.error().message;
+  EXPECT_NEAR(fit->transform.scale, 2, 1e-12);
+  const Similarity truth = similarity_from_matrix(kTwiceQuarterTurn, "m").value();
+  for (int k = 0; k < 9; ++k) EXPECT_NEAR(fit->transform.r[k], truth.r[k], 1e-12) << k;
+  EXPECT_NEAR(fit->transform.t.x, 1, 1e-12);
+  EXPECT_NEAR(fit->transform.t.y, 2, 1e-12);
+  EXPECT_NEAR(fit->transform.t.z, 3, 1e-12);
+  EXPECT_NEAR(fit->rms, 0, 1e-12);
+  // One pair mistyped by 1 along z: the largest residual is that pair's.
+  std::vector<Vec3> typo = mesh;
+  typo[3].z += 1;
+  Expected<PairFit> off = similarity_from_pairs(model, typo);
+  ASSERT_TRUE(off);
+  EXPECT_EQ(off->worst, 3u);
+  EXPECT_GT(off->rms, 0.1);
+  EXPECT_GE(off->largest, off->rms);
+}
+
+TEST(Similarity, PointPairsThatDetermineNoRotationAreRefused) {
+  const std::vector<Vec3> two = {{0, 0, 0}, {1, 0, 0}};
+  Expected<PairFit> few = similarity_from_pairs(two, two);
+  ASSERT_FALSE(few);
+  EXPECT_EQ(few.error().message, "2 point pairs: at least 3 are needed");
+  const std::vector<Vec3> line = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {-3, -3, -3}};
+  const std::vector<Vec3> spread = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  Expected<PairFit> collinear = similarity_from_pairs(line, spread);
+  ASSERT_FALSE(collinear);
+  EXPECT_NE(collinear.error().message.find("the model's points lie on one line"),
+            std::string::npos);
+  const std::vector<Vec3> one_place(4, Vec3{1, 2, 3});
+  Expected<PairFit> same = similarity_from_pairs(spread, one_place);
+  ASSERT_FALSE(same);
+  EXPECT_NE(same.error().message.find("the mesh's points lie on one line (or at one place)"),
+            std::string::npos);
+  EXPECT_FALSE(similarity_from_pairs(spread, line));  // the mesh's side on a line
+  EXPECT_FALSE(similarity_from_pairs(spread, two));   // not as many
+}
+
 TEST(Similarity, AMovedCameraSeesTheMovedWorldAsBefore) {
   // A pinhole at (0, 0, -5) looking down +z; the point (0.3, -0.2, 1).
   Expected<CameraProjector> camera =
