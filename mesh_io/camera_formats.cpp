@@ -1,8 +1,5 @@
 #include "mesh_io/camera_formats.h"
 
-#include <fstream>
-#include <sstream>
-
 #include "mesh_io/json_strict.h"
 #include "mesh_io/meshroom_sfm.h"
 #include "mesh_io/metashape_xml.h"
@@ -77,13 +74,9 @@ Expected<CameraFile> read_camera_file(const std::filesystem::path& path) {
     return make_error(ErrorCode::kParse,
                       path.string() + ": a file of a COLMAP model: give the model's folder");
   }
-  if (Status s = check_text_file(path, "a camera file"); !s) return s.error();
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (f.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
-  return camera_file_from_text(text.str(), path.string());
+  Expected<std::string> text = read_text_file(path, "a camera file");
+  if (!text) return text.error();
+  return camera_file_from_text(*text, path.string());
 }
 
 }  // namespace texbake

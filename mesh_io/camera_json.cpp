@@ -1,9 +1,7 @@
 #include "mesh_io/camera_json.h"
 
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "mesh_io/json_strict.h"
 #include "mesh_io/regular_file.h"
@@ -197,13 +195,7 @@ Expected<CameraProjector> read_camera(const json& o, const std::string& where, b
 }
 
 Expected<std::string> read_text(const std::filesystem::path& path) {
-  if (Status s = check_text_file(path, "a camera list"); !s) return s.error();
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (f.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
-  return text.str();
+  return read_text_file(path, "a camera list");
 }
 
 }  // namespace

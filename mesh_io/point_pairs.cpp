@@ -1,9 +1,7 @@
 #include "mesh_io/point_pairs.h"
 
 #include <cmath>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 
 #include "mesh_io/regular_file.h"
@@ -56,13 +54,9 @@ Expected<PointPairs> point_pairs_from_text(std::string_view text, const std::str
 }
 
 Expected<PointPairs> read_point_pairs(const std::filesystem::path& path) {
-  if (Status s = check_text_file(path, "a correspondences file"); !s) return s.error();
-  std::ifstream f(path, std::ios::binary);
-  if (!f) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (f.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
-  return point_pairs_from_text(text.str(), path.string());
+  Expected<std::string> text = read_text_file(path, "a correspondences file");
+  if (!text) return text.error();
+  return point_pairs_from_text(*text, path.string());
 }
 
 }  // namespace texbake

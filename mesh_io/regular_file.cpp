@@ -1,5 +1,7 @@
 #include "mesh_io/regular_file.h"
 
+#include <fstream>
+#include <sstream>
 #include <string>
 
 namespace texbake {
@@ -51,6 +53,16 @@ Status check_text_file(const fs::path& path, std::string_view what) {
                                              " MiB texbake reads as " + std::string(what));
   }
   return ok_status();
+}
+
+Expected<std::string> read_text_file(const fs::path& path, std::string_view what) {
+  if (Status s = check_text_file(path, what); !s) return s.error();
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
+  std::ostringstream text;
+  text << f.rdbuf();
+  if (f.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
+  return text.str();
 }
 
 }  // namespace texbake

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 #include "mapping/error.h"
@@ -33,5 +34,9 @@ Status check_regular_file(const std::filesystem::path& path, std::string_view wh
 // check_regular_file, then the size: a file larger than kMaxTextFileBytes is
 // kParse "PATH: is N bytes, more than the 16 MiB texbake reads as WHAT".
 Status check_text_file(const std::filesystem::path& path, std::string_view what);
+
+// check_text_file, then the whole file. Errors: check_text_file's, kIo
+// "PATH: cannot open" and "PATH: read error".
+Expected<std::string> read_text_file(const std::filesystem::path& path, std::string_view what);
 
 }  // namespace texbake
