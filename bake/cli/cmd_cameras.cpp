@@ -70,50 +70,32 @@ int run_check(const CamerasArgs& a) {
   run.threads = a.threads;
   Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
   if (!mesh) return report_error(mesh.error());
-  Expected<std::vector<CameraCheck>> checks = check_cameras(mesh->mesh, *photos, run);
-  if (!checks) {
+  // The geometric figures, the model's sparse points against the mesh and,
+  // unless --no-photos, the photo agreement (read the photos one at a time;
+  // not measured, with a note, when none can be read).
+  Expected<CameraModelCheck> check =
+      check_camera_model(mesh->mesh, *photos, a.cameras, !a.no_photos, run);
+  if (!check) {
     // A mask file's error names it; others are the mesh's.
-    if (checks.error().message.rfind("the mask of camera ", 0) == 0) {
-      return report_error(checks.error());
+    if (check.error().message.rfind("the mask of camera ", 0) == 0) {
+      return report_error(check.error());
     }
-    return report_mesh_error(checks.error(), a.mesh);
+    return report_mesh_error(check.error(), a.mesh);
   }
+  const std::vector<CameraCheck>& checks = check->cameras;
+  const ModelAlignment& alignment = check->alignment;
   const bool masks = !a.masks.empty();
-  // The model's sparse points against the mesh (a COLMAP model with points3D).
-  Expected<ModelAlignment> alignment = check_model_alignment(mesh->mesh, a.cameras, run);
-  if (!alignment) return report_mesh_error(alignment.error(), a.mesh);
-  // Photo-consistency where the views overlap, after the exposure gains:
-  // the photo bake's own figures (the photos read one at a time; the fill
-  // left out). Not measured with --no-photos, for fewer than two photos, or
-  // when no photo can be read (a note says why).
-  std::optional<PhotoColors> agreement;
-  std::string not_measured;
-  if (!a.no_photos && photos->size() >= 2) {
-    PhotoBakeOptions o;
-    o.occluded = OccludedMode::kColor;
-    o.consistency_warning = false;  // its warning is given below
-    Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh->mesh, *photos, o, run);
-    if (baked) {
-      agreement = std::move(*baked);
-    } else if (baked.error().code == ErrorCode::kInternal) {
-      return report_mesh_error(baked.error(), a.mesh);
-    } else {
-      // No photo can be read, or one of the wrong size: the geometric
-      // figures stand without the photos.
-      not_measured = baked.error().message;
-    }
-  }
+  const bool agreement = check->agreement_measured;
   // The bake's figures of camera `name` (null: not measured, or left out).
   const auto agreement_of = [&](const std::string& name) -> const PhotoCameraStats* {
-    if (!agreement) return nullptr;
-    for (const PhotoCameraStats& c : agreement->cameras) {
+    for (const PhotoCameraStats& c : check->agreement) {
       if (c.name == name) return &c;
     }
     return nullptr;
   };
   if (a.json) {
     nlohmann::ordered_json j = nlohmann::ordered_json::array();
-    for (const CameraCheck& c : *checks) {
+    for (const CameraCheck& c : checks) {
       j.push_back({{"image", c.name},
                    {"in_front", c.in_front},
                    {"inside", c.inside},
@@ -140,7 +122,7 @@ int run_check(const CamerasArgs& a) {
     std::printf(" %9s", "visible");
     if (agreement) std::printf(" %9s %9s %6s", "shared", "deviation", "gain");
     std::printf("\n");
-    for (const CameraCheck& c : *checks) {
+    for (const CameraCheck& c : checks) {
       std::printf("%-32s %8.1f%% %8.1f%%", c.name.c_str(), 100 * c.in_front, 100 * c.inside);
       if (masks && c.has_mask) std::printf(" %8.1f%%", 100 * c.masked);
       if (masks && !c.has_mask) std::printf(" %9s", "-");
@@ -154,37 +136,29 @@ int run_check(const CamerasArgs& a) {
       std::printf("\n");
     }
   }
-  if (!a.json && alignment->verdict != AlignmentVerdict::kNotMeasured) {
-    std::printf("model alignment: %s: %s\n", to_string(alignment->verdict),
-                alignment_figures(*alignment).c_str());
+  if (!a.json && alignment.verdict != AlignmentVerdict::kNotMeasured) {
+    std::printf("model alignment: %s: %s\n", to_string(alignment.verdict),
+                alignment_figures(alignment).c_str());
   }
   if (!a.json && agreement) {
-    std::printf("photo agreement: %s\n", consistency_figures(agreement->consistency).c_str());
+    std::printf("photo agreement: %s\n", consistency_figures(check->consistency).c_str());
   }
   std::fflush(stdout);
-  if (!not_measured.empty()) {
-    std::fprintf(stderr, "texbake: note: photo agreement not measured: %s\n", not_measured.c_str());
+  if (!check->agreement_not_measured.empty()) {
+    std::fprintf(stderr, "texbake: note: photo agreement not measured: %s\n",
+                 check->agreement_not_measured.c_str());
   }
-  if (agreement) {
-    for (const std::string& w : agreement->stats.warnings) {
-      std::fprintf(stderr, "texbake: warning: %s\n", w.c_str());
-    }
-    if (!photo_consistency_warning(agreement->consistency).empty()) {
-      std::fprintf(stderr,
-                   "texbake: warning: %s: the photos disagree on the mesh (%s): are the cameras "
-                   "in the mesh's frame and their poses right? (texbake cameras align, texbake "
-                   "cameras refine)\n",
-                   a.cameras.c_str(), consistency_figures(agreement->consistency).c_str());
-    }
+  for (const std::string& w : check->warnings) {
+    std::fprintf(stderr, "texbake: warning: %s\n", w.c_str());
   }
-  if (alignment->verdict == AlignmentVerdict::kMisaligned ||
-      alignment->verdict == AlignmentVerdict::kDoubtful) {
+  if (alignment.verdict == AlignmentVerdict::kMisaligned ||
+      alignment.verdict == AlignmentVerdict::kDoubtful) {
     std::fprintf(stderr, "texbake: warning: %s: the model %s in the frame of %s: %s\n",
                  a.cameras.c_str(),
-                 alignment->verdict == AlignmentVerdict::kMisaligned ? "is not" : "may not be",
-                 a.mesh.c_str(), alignment_figures(*alignment).c_str());
+                 alignment.verdict == AlignmentVerdict::kMisaligned ? "is not" : "may not be",
+                 a.mesh.c_str(), alignment_figures(alignment).c_str());
   }
-  for (const CameraCheck& c : *checks) {
+  for (const CameraCheck& c : checks) {
     for (const std::string& w : c.warnings) {
       std::fprintf(stderr, "texbake: warning: %s: %s\n", c.name.c_str(), w.c_str());
     }

@@ -186,14 +186,34 @@ void bind_layer_bakes(py::module_& m) {
   });
 }
 
-py::list camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle images,
-                       py::handle masks, py::handle threads) {
+// The model's sparse points against the mesh, as a dict (None: not measured).
+py::object alignment_dict(const ModelAlignment& a) {
+  if (a.verdict == AlignmentVerdict::kNotMeasured) return py::none();
+  py::dict d;
+  d["verdict"] = std::string(to_string(a.verdict));
+  d["points"] = a.points;
+  d["measured"] = a.measured;
+  d["in_box"] = a.in_box;
+  d["near"] = a.near;
+  d["share_near"] = a.share_near();
+  d["median_distance"] = a.median_distance;
+  return d;
+}
+
+// cameras check: per camera its dict (the geometric figures, and shared,
+// deviation, gain when the photo agreement is measured: None for a photo
+// left out); the model's alignment, the photo agreement (None: not
+// measured), why not, and the warnings.
+py::tuple camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle images,
+                        py::handle masks, bool photos_agreement, py::handle threads) {
   const ReadPhotos photos = read_photos(cameras, images, masks);
   PyRun run(threads, py::none());
-  const std::vector<CameraCheck> checks = run_released<std::vector<CameraCheck>>(
-      run, [&](const RunOptions& r) { return check_cameras(mesh.mesh, photos.photos, r); });
+  const std::filesystem::path model = path_arg(cameras, "cameras");
+  CameraModelCheck check = run_released<CameraModelCheck>(run, [&](const RunOptions& r) {
+    return check_camera_model(mesh.mesh, photos.photos, model, photos_agreement, r);
+  });
   py::list out;
-  for (const CameraCheck& c : checks) {
+  for (const CameraCheck& c : check.cameras) {
     py::dict d;
     d["image"] = c.name;
     d["in_front"] = c.in_front;
@@ -202,9 +222,25 @@ py::list camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle im
     d["has_mask"] = c.has_mask;
     d["visible"] = c.visible;
     d["warnings"] = c.warnings;
+    if (check.agreement_measured) {
+      d["shared"] = py::none();
+      d["deviation"] = py::none();
+      d["gain"] = py::none();
+      for (const PhotoCameraStats& p : check.agreement) {
+        if (p.name != c.name) continue;
+        d["shared"] = p.shared;
+        d["deviation"] = p.deviation;
+        d["gain"] = py::make_tuple(p.gain[0], p.gain[1], p.gain[2]);
+      }
+    }
     out.append(d);
   }
-  return out;
+  std::vector<std::string> warnings = photos.warnings;
+  warnings.insert(warnings.end(), check.warnings.begin(), check.warnings.end());
+  py::object agreement =
+      check.agreement_measured ? py::object(consistency_dict(check.consistency)) : py::none();
+  return py::make_tuple(out, alignment_dict(check.alignment), agreement,
+                        check.agreement_not_measured, warnings);
 }
 
 // cameras refine: per photo its refined camera (model, size, params, R,

@@ -270,4 +270,41 @@ Expected<ModelAlignment> check_model_alignment(const MeshData& mesh, const fs::p
   return a;
 }
 
+Expected<CameraModelCheck> check_camera_model(const MeshData& mesh,
+                                              const std::vector<Photo>& photos,
+                                              const fs::path& model, bool measure_agreement,
+                                              const RunOptions& run) {
+  CameraModelCheck out;
+  Expected<std::vector<CameraCheck>> checks = check_cameras(mesh, photos, run);
+  if (!checks) return checks.error();
+  out.cameras = std::move(*checks);
+  Expected<ModelAlignment> alignment = check_model_alignment(mesh, model, run);
+  if (!alignment) return alignment.error();
+  out.alignment = *alignment;
+  if (!measure_agreement || photos.size() < 2) return out;
+  // The photo bake's own figures (the photos read one at a time; the fill
+  // left out); its consistency warning is given here, naming the model.
+  PhotoBakeOptions o;
+  o.occluded = OccludedMode::kColor;
+  o.consistency_warning = false;
+  Expected<PhotoColors> baked = bake_vertex_colors_from_photos(mesh, photos, o, run);
+  if (!baked) {
+    const ErrorCode code = baked.error().code;
+    if (code == ErrorCode::kInternal || code == ErrorCode::kCancelled) return baked.error();
+    out.agreement_not_measured = baked.error().message;  // the geometric figures stand
+    return out;
+  }
+  out.agreement_measured = true;
+  out.agreement = std::move(baked->cameras);
+  out.consistency = baked->consistency;
+  out.warnings = std::move(baked->stats.warnings);
+  if (!photo_consistency_warning(out.consistency).empty()) {
+    out.warnings.push_back(model.string() + ": the photos disagree on the mesh (" +
+                           consistency_figures(out.consistency) +
+                           "): are the cameras in the mesh's frame and their poses right? "
+                           "(texbake cameras align, texbake cameras refine)");
+  }
+  return out;
+}
+
 }  // namespace texbake

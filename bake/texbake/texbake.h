@@ -420,6 +420,32 @@ Expected<ModelAlignment> check_model_alignment(const MeshData& mesh,
                                                const std::filesystem::path& cameras,
                                                const RunOptions& run = {});
 
+// texbake cameras check in one call: per camera the geometric checks
+// (check_cameras), the model's sparse points against the mesh
+// (check_model_alignment) and, with `measure_agreement`, the photo
+// agreement of a photo bake (bake_vertex_colors_from_photos, occluded
+// vertices left uncoloured: its cameras' shared, deviation and gain, and its
+// consistency). The agreement is not measured for fewer than two photos, or
+// when the photos cannot be baked for a reason of their own (none readable,
+// a size that does not match the camera's): `agreement_not_measured` says
+// why. Errors: those of check_cameras and check_model_alignment, and the
+// photo bake's kInternal and kCancelled.
+struct CameraModelCheck {
+  std::vector<CameraCheck> cameras;
+  ModelAlignment alignment;
+  bool agreement_measured = false;
+  std::vector<PhotoCameraStats> agreement;  // the photos baked, in the model's order
+  PhotoConsistency consistency;
+  std::string agreement_not_measured;
+  // The photo bake's warnings (photos left out) and, when the photos
+  // disagree, one that names `model` and the figures.
+  std::vector<std::string> warnings;
+};
+Expected<CameraModelCheck> check_camera_model(const MeshData& mesh,
+                                              const std::vector<Photo>& photos,
+                                              const std::filesystem::path& model,
+                                              bool measure_agreement, const RunOptions& run = {});
+
 // texbake cameras refine (the contract of bake/photo/pose_refine.h): every
 // photo's pose (with options.intrinsics also its focal length and principal
 // point) refined so that the photos agree on the mesh, photometrically in

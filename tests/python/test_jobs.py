@@ -140,15 +140,46 @@ def test_camera_proxy_errors(tmp_path, bunny):
                                         photo=DATA / "earth.jpg")
 
 
-def test_check_cameras_gives_the_cli_table(workspace):
-    r = run_cli("cameras", "check", BUNNY, "--cameras", workspace / "sparse" / "0", "--json")
+def test_check_cameras_gives_the_cli_table(tmp_path, workspace):
+    """check_cameras is `cameras check`: the --json rows (photo agreement
+    columns included), the table's agreement line, the bake's own agreement
+    figures (stats), and --no-photos as photos=False."""
+    model = workspace / "sparse" / "0"
+    r = run_cli("cameras", "check", BUNNY, "--cameras", model, "--json")
     assert r.returncode == 0, r.stderr
     cli = json.loads(r.stdout)
-    checks = texbake.check_cameras(texbake.read_mesh(BUNNY), cameras=workspace / "sparse" / "0")
+    for c in cli:
+        c["gain"] = tuple(c["gain"])
+    mesh = texbake.read_mesh(BUNNY)
+    checks = texbake.check_cameras(mesh, cameras=model)
+    assert isinstance(checks, texbake.CameraChecks) and isinstance(checks, list)
     assert checks == cli
     # Renders framed on the bunny see all of it in front and inside.
     assert all(c["in_front"] == 1 and c["inside"] == 1 for c in checks)
     assert all(0 < c["visible"] < 1 for c in checks)
+    # The agreement: the photo bake's own figures; the table's line.
+    _, stats, _ = texbake.bake_vertex_from_photos(mesh, cameras=model, occluded=(0, 0, 0))
+    assert checks.photo_agreement == stats["photo_agreement"]
+    a = checks.photo_agreement
+    # An unlit render: the views agree but for resampling (measured 89.8 %).
+    assert a["vertices"] > 1000 and a["agreeing"] > 0.8
+    r = run_cli("cameras", "check", BUNNY, "--cameras", model)
+    assert r.returncode == 0, r.stderr
+    line = [l for l in r.stdout.splitlines() if l.startswith("photo agreement: ")][0]
+    assert f"{100 * a['agreeing']:.0f} % of {a['vertices']} vertices" in line, line
+    assert checks.alignment is None  # the render writes no sparse points
+    assert checks.agreement_note == "" and list(checks.warnings) == []
+    # --no-photos: the geometric figures only.
+    plain = texbake.check_cameras(mesh, cameras=model, photos=False)
+    r = run_cli("cameras", "check", BUNNY, "--cameras", model, "--json", "--no-photos")
+    assert plain == json.loads(r.stdout)
+    assert plain.photo_agreement is None and "shared" not in plain[0]
+    # No photo readable: the geometric figures and a note saying why.
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    loose = texbake.check_cameras(mesh, cameras=model, images=empty)
+    assert loose.photo_agreement is None and "view_00.png" in loose.agreement_note
+    assert [c["visible"] for c in loose] == [c["visible"] for c in checks]
 
 
 def test_new_calls_release_the_gil_and_report_progress(tmp_path, workspace):

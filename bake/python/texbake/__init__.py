@@ -63,7 +63,7 @@ __all__ = [
     "Atlas", "Cancelled", "DEFAULTS", "Mesh", "Proxy", "STATUS", "atlas_files", "bake_atlas",
     "bake_atlas_from_camera", "bake_atlas_from_layers", "bake_atlas_from_photos",
     "bake_vertex", "bake_vertex_from_camera", "bake_vertex_from_layers",
-    "bake_vertex_from_photos", "check_cameras", "compare", "refine_cameras", "fit", "map", "read_image",
+    "bake_vertex_from_photos", "CameraChecks", "check_cameras", "compare", "refine_cameras", "fit", "map", "read_image",
     "read_mesh", "render",
     "write_atlas", "write_image", "write_vertex_colors",
     "JOB_OPTIONS", "run_batch", "run_job",
@@ -525,18 +525,44 @@ def bake_atlas_from_layers(*mesh, layers, occluded=_a("occluded"), uv=_a("uv"), 
                                            cache_mb, threads, progress)
 
 
-def check_cameras(*mesh, cameras, images=None, masks=None, threads=0):
-    """check_cameras(mesh, cameras=PATH, images=None, masks=None) or (vertices, faces, ...):
-    `texbake cameras check`: per photo a dict with image, in_front, inside,
-    masked, visible (shares of the mesh's vertices in front of the camera,
-    inside its photo, inside but masked out by its mask file, inside,
-    unmasked and visible from it, in [0, 1]), has_mask (its mask file was
-    found in masks) and warnings (poses that look like convention errors).
-    cameras, images and masks as bake_vertex_from_photos (the check reads no
-    photo: only mask files mask). Errors: ValueError, OSError (the model, the
-    masks folder or a mask file, the mesh)."""
+class CameraChecks(list):
+    """What check_cameras returns: a list, per camera of the model, of dicts
+    (see check_cameras), with the model's figures as attributes:
+    alignment (dict: verdict, points, measured, in_box, near, share_near,
+    median_distance; None when the model has no sparse points),
+    photo_agreement (dict: vertices, agreeing, median_deviation, gain_ratio,
+    as a photo bake's stats; None when not measured), agreement_note (why
+    it was not measured, or '') and warnings (list of str)."""
+
+    alignment = None
+    photo_agreement = None
+    agreement_note = ""
+    warnings = ()
+
+
+def check_cameras(*mesh, cameras, images=None, masks=None, photos=True, threads=0):
+    """check_cameras(mesh, cameras=PATH, images=None, masks=None, photos=True) or
+    (vertices, faces, ...): `texbake cameras check`. Returns a CameraChecks:
+    per photo a dict with image, in_front, inside, masked, visible (shares of
+    the mesh's vertices in front of the camera, inside its photo, inside but
+    masked out by its mask file, inside, unmasked and visible from it, in
+    [0, 1]), has_mask (its mask file was found in masks) and warnings (poses
+    that look like convention errors); with photos=True (the CLI's default;
+    False is --no-photos) and two photos or more, also shared (vertices it
+    sees with another photo), deviation (its mean relative deviation from
+    their consensus) and gain (its exposure gain per channel), None for a
+    photo left out. The geometric figures read no photo (only mask files
+    mask); the agreement is a photo bake's, and is not measured (the
+    result's agreement_note says why) when no photo can be read. cameras,
+    images and masks as bake_vertex_from_photos. Errors: ValueError, OSError
+    (the model, the masks folder or a mask file, the mesh)."""
     mesh = _mesh(mesh, 0, "check_cameras")[0]
-    return _texbake.check_cameras(mesh, cameras, images, masks, threads)
+    checks, alignment, agreement, note, warnings = _texbake.check_cameras(
+        mesh, cameras, images, masks, bool(photos), threads)
+    out = CameraChecks(checks)
+    out.alignment, out.photo_agreement = alignment, agreement
+    out.agreement_note, out.warnings = note, warnings
+    return out
 
 
 def refine_cameras(*mesh, cameras, images=None, intrinsics=False, max_rotation=2.0,
