@@ -10,14 +10,16 @@
 namespace texbake {
 
 Expected<PointPairs> point_pairs_from_text(std::string_view text, const std::string& where) {
+  // A UTF-8 byte order mark (a spreadsheet's "CSV UTF-8" export) is not text.
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
   PointPairs pairs;
   std::optional<Error> error;
-  bool first = true;
+  bool header_allowed = true;  // until the first line that is not empty or a comment
   read_detail::for_each_line(text, [&](std::string_view raw, std::size_t line) {
     const std::string_view l = read_detail::trim(raw);
-    const bool was_first = first;
-    first = false;
     if (l.empty() || l.front() == '#') return true;
+    const bool may_be_header = header_allowed;
+    header_allowed = false;
     std::string spaced(l);
     for (char& c : spaced) {
       if (c == ',' || c == ';') c = ' ';
@@ -30,7 +32,7 @@ Expected<PointPairs> point_pairs_from_text(std::string_view text, const std::str
         // A header line (no number at all) may open the file.
         bool any_number = false;
         for (std::string_view u : toks) any_number = any_number || read_detail::parse_number(u);
-        if (was_first && !any_number) return true;
+        if (may_be_header && !any_number) return true;
         error = Error{ErrorCode::kParse, where + ":" + std::to_string(line) + ": '" +
                                              std::string(t) + "' is not a finite number"};
         return false;

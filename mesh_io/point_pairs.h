@@ -7,7 +7,8 @@
 // The file is text: one pair per line, six numbers, the model's point then
 // the mesh's (x y z X Y Z), separated by spaces, tabs or commas (so a CSV
 // export reads as is); empty lines and lines starting with '#' are skipped,
-// and so is a first line that holds no number (a CSV header).
+// and so are a first line (after those) that holds no number (a CSV
+// header) and a UTF-8 byte order mark.
 #pragma once
 
 #include <cstddef>

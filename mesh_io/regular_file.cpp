@@ -1,7 +1,6 @@
 #include "mesh_io/regular_file.h"
 
 #include <fstream>
-#include <sstream>
 #include <string>
 
 namespace texbake {
@@ -59,10 +58,20 @@ Expected<std::string> read_text_file(const fs::path& path, std::string_view what
   if (Status s = check_text_file(path, what); !s) return s.error();
   std::ifstream f(path, std::ios::binary);
   if (!f) return make_error(ErrorCode::kIo, path.string() + ": cannot open");
-  std::ostringstream text;
-  text << f.rdbuf();
+  // Read to the end, checking each read (operator<< of a stream buffer
+  // would stop at a read error silently and hand on part of the file).
+  std::string text;
+  char buf[1 << 16];
+  while (f.read(buf, sizeof buf) || f.gcount() > 0) {
+    text.append(buf, static_cast<std::size_t>(f.gcount()));
+    if (text.size() > kMaxTextFileBytes) {  // it grew since the check
+      return make_error(ErrorCode::kParse, path.string() + ": is more than the " +
+                                               std::to_string(kMaxTextFileBytes >> 20) +
+                                               " MiB texbake reads as " + std::string(what));
+    }
+  }
   if (f.bad()) return make_error(ErrorCode::kIo, path.string() + ": read error");
-  return text.str();
+  return text;
 }
 
 }  // namespace texbake

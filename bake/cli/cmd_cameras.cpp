@@ -103,11 +103,15 @@ int run_check(const CamerasArgs& a) {
                    {"has_mask", c.has_mask},
                    {"visible", c.visible},
                    {"warnings", c.warnings}});
-      if (const PhotoCameraStats* p = agreement_of(c.name)) {
+      if (agreement) {
+        // null for a photo the bake left out (unreadable).
         nlohmann::ordered_json& last = j.back();
-        last["shared"] = p->shared;
-        last["deviation"] = p->deviation;
-        last["gain"] = p->gain;
+        last["shared"] = last["deviation"] = last["gain"] = nullptr;
+        if (const PhotoCameraStats* p = agreement_of(c.name)) {
+          last["shared"] = p->shared;
+          last["deviation"] = p->deviation;
+          last["gain"] = p->gain;
+        }
       }
     }
     std::printf("%s\n", j.dump(2).c_str());

@@ -309,10 +309,15 @@ class Refiner {
   const std::array<double, 3>& gain(std::size_t c) const { return gain_[c]; }
   int iterations(std::size_t c) const { return iterations_[c]; }
   bool clamped(std::size_t c) const { return clamped_[c] != 0; }
-  // Back to the input poses (the refinement is dropped; its steps counted).
+  // Did any step move a photo measurably?
+  bool moved() const {
+    return std::any_of(iterations_.begin(), iterations_.end(), [](int n) { return n > 0; });
+  }
+  // Back to the input poses: the refinement and its steps are dropped.
   void reset() {
     state_ = initial_;
     std::fill(clamped_.begin(), clamped_.end(), 0);
+    std::fill(iterations_.begin(), iterations_.end(), 0);
   }
 
   // The pairs (point, photo) of `level`: the points each photo sees at its
@@ -995,7 +1000,7 @@ Expected<PoseRefineResult> refine_poses(const MeshData& mesh, const std::vector<
   };
   const double overall_before = overall(rms_before, n_before);
   const double overall_after = overall(rms_after, n_after);
-  if (!(overall_after < overall_before)) {
+  if (refiner.moved() && !(overall_after < overall_before)) {
     refiner.reset();
     refiner.build_pairs(0);
     refiner.measure(0, rms_after, n_after);

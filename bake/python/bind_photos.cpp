@@ -37,15 +37,15 @@ struct ReadPhotos {
   std::vector<Photo> photos;
   std::vector<std::string> warnings;
 };
-ReadPhotos read_photos(const py::handle& cameras, const py::handle& images,
-                       const py::handle& masks) {
+ReadPhotos read_photos(const py::handle& cameras, const py::handle& images, const py::handle& masks,
+                       PhotoFolder need = PhotoFolder::kNeeded) {
   const std::filesystem::path c = path_arg(cameras, "cameras");
   const std::filesystem::path i =
       images.is_none() ? std::filesystem::path{} : path_arg(images, "images");
   const std::filesystem::path m =
       masks.is_none() ? std::filesystem::path{} : path_arg(masks, "masks");
   py::gil_scoped_release release;
-  ReadPhotos out{check(read_cameras(c, i)), {}};
+  ReadPhotos out{check(read_cameras(c, i, need)), {}};
   if (!m.empty()) check(find_masks(out.photos, m, "masks", &out.warnings));
   return out;
 }
@@ -206,7 +206,9 @@ py::object alignment_dict(const ModelAlignment& a) {
 // measured), why not, and the warnings.
 py::tuple camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle images,
                         py::handle masks, bool photos_agreement, py::handle threads) {
-  const ReadPhotos photos = read_photos(cameras, images, masks);
+  // As the CLI: a model outside a workspace needs no photo folder (then
+  // the agreement is not measured).
+  const ReadPhotos photos = read_photos(cameras, images, masks, PhotoFolder::kNotNeeded);
   PyRun run(threads, py::none());
   const std::filesystem::path model = path_arg(cameras, "cameras");
   CameraModelCheck check = run_released<CameraModelCheck>(run, [&](const RunOptions& r) {

@@ -128,6 +128,12 @@ class JobRun {
   Expected<Held<LoadedMesh>> read_job_mesh(bool check_uv = true) const {
     Expected<Held<LoadedMesh>> mesh =
         read_held_mesh(job_.mesh, RunOptions{job_.threads, {}}, job_.cache.get());
+    // Only a proxy's per-vertex bake with visibility uses the cache's scene
+    // (run_proxy); any other job lets it go, so that a batch never holds
+    // the cached scene beside a job's own.
+    const bool uses_scene = job_.layers.empty() && job_.cameras.empty() && !atlas() &&
+                            job_.shading.visibility == Visibility::kFirst;
+    if (job_.cache && !uses_scene) job_.cache->drop_scene();
     if (mesh && check_uv && atlas() && job_.atlas.uv == UvLayout::kMesh &&
         !mesh->get().mesh.has_uvs()) {
       // The option does not fit the given mesh: a usage error.

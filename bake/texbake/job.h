@@ -45,7 +45,8 @@ enum class JobTarget { kVertex, kAtlas };
 // mesh it keeps the mesh's visibility scene (Embree's BVH), built by the
 // first per-vertex job that tests visibility on it, for meshes of at most
 // kSceneKeepTriangles triangles (a larger scene costs more memory than its
-// build costs time). Results are the same bytes as without it. Thread-safe.
+// build costs time), until a job that does not use it runs (drop_scene).
+// Results are the same bytes as without it. Thread-safe.
 class EmbreeScene;
 class JobCache {
  public:
@@ -67,6 +68,8 @@ class JobCache {
   // Null when the mesh is not the one held or has more than
   // kSceneKeepTriangles triangles. Errors: kInternal (Embree).
   static constexpr std::size_t kSceneKeepTriangles = std::size_t{1} << 22;
+  // Lets the scene go (a job that does not use it: the memory for its own).
+  void drop_scene();
   Expected<std::shared_ptr<const EmbreeScene>> scene(const std::shared_ptr<const LoadedMesh>& mesh,
                                                      bool* built = nullptr);
 

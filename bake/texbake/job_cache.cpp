@@ -131,6 +131,11 @@ Expected<std::shared_ptr<const EmbreeScene>> JobCache::scene(
   return s.scene;
 }
 
+void JobCache::drop_scene() {
+  std::lock_guard<std::mutex> lock(state_->mutex);
+  state_->scene.reset();
+}
+
 JobCache::Counts JobCache::counts() const {
   std::lock_guard<std::mutex> lock(state_->mutex);
   return state_->counts;

@@ -48,6 +48,17 @@ TEST(PointPairs, ErrorsNameTheLine) {
   EXPECT_EQ(words.error().message, "p.txt:2: 'x' is not a finite number");
   // A first line mixing words and numbers is not a header either.
   EXPECT_FALSE(point_pairs_from_text("a 1 2 3 4 5\n", "p.txt"));
+  // A header after comments and blank lines, and a byte order mark.
+  Expected<PointPairs> late =
+      point_pairs_from_text("\xEF\xBB\xBF# picked by hand\n\nx,y,z,X,Y,Z\n1,2,3,4,5,6\n", "p.txt");
+  ASSERT_TRUE(late) << late.error().message;
+  EXPECT_EQ(late->lines, (std::vector<std::size_t>{4}));
+  Expected<PointPairs> bom = point_pairs_from_text(
+      "\xEF\xBB\xBF"
+      "1 2 3 4 5 6\n",
+      "p.txt");
+  ASSERT_TRUE(bom) << bom.error().message;
+  EXPECT_EQ(bom->model[0].x, 1);
   // An empty file has no pairs (the fit says how many it needs).
   Expected<PointPairs> empty = point_pairs_from_text("", "p.txt");
   ASSERT_TRUE(empty);

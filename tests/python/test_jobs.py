@@ -180,6 +180,15 @@ def test_check_cameras_gives_the_cli_table(tmp_path, workspace):
     loose = texbake.check_cameras(mesh, cameras=model, images=empty)
     assert loose.photo_agreement is None and "view_00.png" in loose.agreement_note
     assert [c["visible"] for c in loose] == [c["visible"] for c in checks]
+    # A model outside a workspace needs no photo folder (as the CLI).
+    import shutil
+    bare = tmp_path / "bare"
+    shutil.copytree(model, bare)
+    r = run_cli("cameras", "check", BUNNY, "--cameras", bare, "--json")
+    assert r.returncode == 0, r.stderr
+    alone = texbake.check_cameras(mesh, cameras=bare)
+    assert alone == json.loads(r.stdout) == plain
+    assert alone.photo_agreement is None and alone.agreement_note != ""
 
 
 def test_new_calls_release_the_gil_and_report_progress(tmp_path, workspace):
