@@ -15,6 +15,9 @@
 #   median REPORT ARGS...          $reps runs of texbake ARGS --report
 #                                  REPORT.i.json: prints the median run's
 #                                  "seconds peak_MB report"
+#   bench_photograph MESH UP        24 views of MESH at 1920 x 1080 (the Earth
+#                                  map from its fitted sphere, unlit) as the
+#                                  COLMAP workspace NAME/ws, once
 
 bench_options() {
   reps=$1
@@ -75,4 +78,15 @@ median() { # report args...
     echo "$s $p $report.$i.json" >>runs.tsv
   done
   sort -n runs.tsv | sed -n "$(((reps + 1) / 2))p"
+}
+
+bench_photograph() { # mesh up
+  local name=${1%.*}
+  if [ ! -f "$name/ws/sparse/0/images.txt" ]; then
+    rm -rf "$name"
+    mkdir -p "$name"
+    "$texbake" fit "$1" --proxy sphere --up "$2" -o "$name/sphere.json" >/dev/null
+    "$texbake" render "$1" --texture "$TEXBAKE_ROOT/data/earth.jpg" --proxy-file "$name/sphere.json" \
+      --up "$2" --unlit --views 24 --samples 4 --size 1920x1080 --colmap "$name/ws" >/dev/null
+  fi
 }

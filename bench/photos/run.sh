@@ -34,18 +34,8 @@ cp "$TEXBAKE_ROOT/data/bunny00.off" bunny.off
 
 
 # Photos: 24 views around the mesh's up axis, 1920 x 1080, unlit.
-photograph() { # mesh up
-  local name=${1%.*}
-  if [ ! -f "$name/ws/sparse/0/images.txt" ]; then
-    rm -rf "$name"
-    mkdir -p "$name"
-    "$texbake" fit "$1" --proxy sphere --up "$2" -o "$name/sphere.json" >/dev/null
-    "$texbake" render "$1" --texture "$TEXBAKE_ROOT/data/earth.jpg" --proxy-file "$name/sphere.json" \
-      --up "$2" --unlit --views 24 --samples 4 --size 1920x1080 --colmap "$name/ws" >/dev/null
-  fi
-}
-photograph bunny.off y
-photograph armadillo_832k.ply y
+bench_photograph bunny.off y
+bench_photograph armadillo_832k.ply y
 
 # One timed bake: prints "seconds peak_MB" and leaves its report.
 timed_bake() { # mesh target output report
