@@ -346,7 +346,7 @@ int run_align(const AlignArgs& a) {
 
 // texbake cameras refine MESH --cameras MODEL -o OUT [options]
 struct RefineArgs {
-  std::string mesh, cameras, images, output, report;
+  std::string mesh, cameras, images, masks, output, report;
   PoseRefineOptions options;
   std::string colorspace = "auto";
   int threads = 0;
@@ -413,7 +413,7 @@ int run_refine(const RefineArgs& a) {
                             ": cameras refine takes a COLMAP model folder (texbake cameras "
                             "convert writes one from the other formats)");
   }
-  std::vector<NamedFile> inputs = camera_files(a.cameras, a.images, "--cameras");
+  std::vector<NamedFile> inputs = camera_files(a.cameras, a.images, "--cameras", a.masks);
   inputs.push_back({"MESH", a.mesh});
   if (Status s = check_model_output(inputs, out); !s) return report_error(s.error());
   if (!a.report.empty()) {
@@ -441,6 +441,13 @@ int run_refine(const RefineArgs& a) {
   if (!points) return report_error(points.error());
   Expected<std::vector<Photo>> photos = read_cameras(a.cameras, a.images);
   if (!photos) return report_error(photos.error());
+  if (!a.masks.empty()) {
+    std::vector<std::string> warnings;
+    if (Status s = find_masks(*photos, a.masks, "--masks", &warnings); !s) {
+      return report_error(s.error());
+    }
+    for (const std::string& w : warnings) std::fprintf(stderr, "texbake: warning: %s\n", w.c_str());
+  }
   RunOptions run;
   run.threads = a.threads;
   Expected<LoadedMesh> mesh = read_mesh(a.mesh, run);
@@ -678,6 +685,9 @@ RunFunction add_cameras_command(CLI::App& app) {
       ->required();
   refine->add_option("--images", refine_args->images,
                      "the photos' folder (default: the workspace's images/ beside sparse/)");
+  refine->add_option("--masks", refine_args->masks,
+                     "the photos' masks in COLMAP's convention (DIR/<image name>.png, 0 = masked "
+                     "out, as bake --masks): masked-out pixels are never sampled");
   refine
       ->add_option("-o,--output", refine_args->output,
                    "the refined model's folder (created if missing; a model of the other form "

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <numbers>
+#include <numeric>
 #include <span>
 
 #include "bake/photo/photo_view.h"
@@ -980,6 +981,12 @@ Expected<PoseRefineResult> refine_poses(const MeshData& mesh, const std::vector<
                       "agree on (are the cameras in the mesh's frame? see texbake cameras check)");
   }
   refiner.measure(0, rms_before, n_before);
+  if (std::accumulate(n_before.begin(), n_before.end(), std::size_t{0}) == 0) {
+    // Seen by two photos, but masked out (a mask, or alpha 0) in all but one.
+    return make_error(ErrorCode::kParse,
+                      "no point of the mesh is seen by two photos where their masks keep the "
+                      "pixels: the photos have nothing to agree on");
+  }
   for (int level = levels - 1; level >= 0; --level) {
     refiner.build_pairs(level);
     if (!refiner.refine_level(level, options.iterations, progress)) return cancelled_error();

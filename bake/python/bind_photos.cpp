@@ -247,10 +247,10 @@ py::tuple camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle i
 
 // cameras refine: per photo its refined camera (model, size, params, R,
 // t: world-to-camera, OpenCV axes) and the report's figures.
-py::tuple refine(const LoadedMesh& mesh, py::handle cameras, py::handle images, bool intrinsics,
-                 py::handle max_rotation, py::handle max_translation, py::handle iterations,
-                 py::handle colorspace, bool strict_photos, py::handle threads,
-                 py::object progress) {
+py::tuple refine(const LoadedMesh& mesh, py::handle cameras, py::handle images, py::handle masks,
+                 bool intrinsics, py::handle max_rotation, py::handle max_translation,
+                 py::handle iterations, py::handle colorspace, bool strict_photos,
+                 py::handle threads, py::object progress) {
   PoseRefineOptions o;
   o.intrinsics = intrinsics;
   o.max_rotation_deg = py::cast<double>(max_rotation);
@@ -268,10 +268,12 @@ py::tuple refine(const LoadedMesh& mesh, py::handle cameras, py::handle images, 
     throw py::value_error("--iterations " + std::to_string(o.iterations) +
                           " is out of range (1 .. 1000)");
   }
-  const std::vector<Photo> photos = read_photos(cameras, images, py::none()).photos;
+  const ReadPhotos read = read_photos(cameras, images, masks);
   PyRun run(threads, std::move(progress));
   RefinedCameras refined = run_released<RefinedCameras>(
-      run, [&](const RunOptions& r) { return refine_cameras(mesh.mesh, photos, o, r); });
+      run, [&](const RunOptions& r) { return refine_cameras(mesh.mesh, read.photos, o, r); });
+  std::vector<std::string>& warnings = refined.stats.warnings;
+  warnings.insert(warnings.begin(), read.warnings.begin(), read.warnings.end());
   py::list out;
   for (const RefinedPose& p : refined.photos) {
     const CameraSpec& spec = p.camera.spec();

@@ -174,3 +174,16 @@ def test_refine_cameras_is_the_cli_and_keeps_true_poses(tmp_path):
         texbake.refine_cameras(mesh, cameras=model, max_rotation=0)
     with pytest.raises(OSError, match="missing"):
         texbake.refine_cameras(mesh, cameras=tmp_path / "missing")
+    # COLMAP masks (masks=DIR, as --masks): all but view_00 masked out whole,
+    # so no point is seen by two photos (exit 1 in the CLI: OSError).
+    masks = tmp_path / "masks"
+    masks.mkdir()
+    for k in range(4):
+        texbake.write_image(masks / f"view_0{k}.png.png",
+                            np.full((120, 160, 3), 1.0 if k == 0 else 0.0, np.float32))
+    with pytest.raises(OSError, match="no point of the mesh is seen by two photos"):
+        texbake.refine_cameras(mesh, cameras=model, masks=masks)
+    r = run_cli("cameras", "refine", bunny, "--cameras", model, "--masks", masks, "-q",
+                "-o", tmp_path / "masked")
+    assert r.returncode == 1 and "no point of the mesh is seen by two photos" in r.stderr
+    assert not (tmp_path / "masked").exists()

@@ -565,7 +565,7 @@ def check_cameras(*mesh, cameras, images=None, masks=None, photos=True, threads=
     return out
 
 
-def refine_cameras(*mesh, cameras, images=None, intrinsics=False, max_rotation=2.0,
+def refine_cameras(*mesh, cameras, images=None, masks=None, intrinsics=False, max_rotation=2.0,
                    max_translation=0.05, iterations=50, colorspace="auto", strict_photos=False,
                    threads=0, progress=None):
     """refine_cameras(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
@@ -573,7 +573,8 @@ def refine_cameras(*mesh, cameras, images=None, intrinsics=False, max_rotation=2
     focal length and principal point) refined so that the photos agree on the
     mesh (photometric, linear light, exposure gains solved jointly), each change
     bounded by max_rotation (degrees) and max_translation (a fraction of the
-    mesh's bounding-box diagonal). cameras and images as bake_vertex_from_photos.
+    mesh's bounding-box diagonal). cameras, images and masks as
+    bake_vertex_from_photos (a masked-out pixel is never sampled).
 
     Returns (photos, stats): photos a list, in the model's order, of dicts with
     image, skipped (its photo cannot be read: unchanged), model, width, height,
@@ -587,7 +588,7 @@ def refine_cameras(*mesh, cameras, images=None, intrinsics=False, max_rotation=2
     'refine'.
     """
     mesh = _mesh(mesh, 0, "refine_cameras")[0]
-    return _texbake.refine_cameras(mesh, cameras, images, bool(intrinsics), max_rotation,
+    return _texbake.refine_cameras(mesh, cameras, images, masks, bool(intrinsics), max_rotation,
                                    max_translation, iterations, colorspace, bool(strict_photos),
                                    threads, progress)
 
