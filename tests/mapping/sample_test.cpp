@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -119,6 +120,29 @@ TEST(Srgb, KnownValuesAndRoundTrip) {
     const float c = i / 1000.0f;
     EXPECT_NEAR(linear_to_srgb(srgb_to_linear(c)), c, 2e-6) << c;
   }
+}
+
+// The 8-bit values (b / 255 and b * (1 / 255), the two ways readers
+// decode a byte) go through a table: the same bits as SPEC section 1's
+// formula, evaluated here in float as it is written; values between them,
+// the signed zeros, values out of [0, 1] and NaN through the formula too.
+TEST(Srgb, EightBitValuesAreTheFormulasBitForBit) {
+  const auto formula = [](float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+  };
+  const auto same_bits = [](float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  for (int b = 0; b < 256; ++b) {
+    for (const float c : {static_cast<float>(b) / 255.0f, static_cast<float>(b) * (1.0f / 255.0f),
+                          std::nextafter(static_cast<float>(b) / 255.0f, 2.0f),
+                          std::nextafter(static_cast<float>(b) / 255.0f, -1.0f)}) {
+      EXPECT_TRUE(same_bits(srgb_to_linear(c), formula(c))) << b << " " << c;
+    }
+  }
+  for (const float c : {0.0f, -0.0f, -0.5f, 1.5f, 1e-30f, 0.999999f}) {
+    EXPECT_TRUE(same_bits(srgb_to_linear(c), formula(c))) << c;
+  }
+  EXPECT_TRUE(std::signbit(srgb_to_linear(-0.0f)));
+  EXPECT_TRUE(std::isnan(srgb_to_linear(std::nanf(""))));
 }
 
 TEST(Srgb, ColourFormsConvertRgbAndNeverAlpha) {
