@@ -90,3 +90,14 @@ bench_photograph() { # mesh up
       --up "$2" --unlit --views 24 --samples 4 --size 1920x1080 --colmap "$name/ws" >/dev/null
   fi
 }
+
+# The photographs benchmarks' meshes in the work folder: the bunny and the
+# armadillo subdivided to 832k triangles, each photographed 24 times.
+bench_photo_meshes() {
+  [ -f armadillo_832k.ply ] ||
+    "$py" "$TEXBAKE_ROOT/bench/peers/peers_util.py" mesh "$TEXBAKE_ROOT/data/armadillo.off" \
+      armadillo_832k.ply
+  cp "$TEXBAKE_ROOT/data/bunny00.off" bunny.off
+  bench_photograph bunny.off y
+  bench_photograph armadillo_832k.ply y
+}

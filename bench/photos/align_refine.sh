@@ -31,11 +31,8 @@ source "$here/../common.sh"
 bench_options 1 "${TMPDIR:-/tmp}/texbake_photos" "$@"
 bench_start
 
-[ -f armadillo_832k.ply ] ||
-  "$py" "$here/../peers/peers_util.py" mesh "$TEXBAKE_ROOT/data/armadillo.off" armadillo_832k.ply
-cp "$TEXBAKE_ROOT/data/bunny00.off" bunny.off
-bench_photograph bunny.off y
-bench_photograph armadillo_832k.ply y
+# Photos: 24 views around each mesh's up axis, 1920 x 1080, unlit.
+bench_photo_meshes
 
 # model.py MODE ARGS: the models' arithmetic, with numpy (not texbake's code).
 cat >model.py <<'PY'
