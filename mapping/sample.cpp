@@ -73,8 +73,10 @@ float srgb_to_linear(float c) {
   if (k > 0.0f && k <= 255.0f) {  // (not NaN; 0 and -0 keep their sign below)
     static const Srgb8 table;
     const int b = static_cast<int>(k + 0.5f);
-    if (c == table.in_div[b]) return table.out_div[b];
+    // OpenImageIO decodes a byte as b * (1 / 255): that first, so the
+    // branch is always taken the same way for its images.
     if (c == table.in_mul[b]) return table.out_mul[b];
+    if (c == table.in_div[b]) return table.out_div[b];
   }
   return srgb_curve(c);
 }

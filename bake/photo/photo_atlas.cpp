@@ -39,7 +39,32 @@ SurfaceSample surface_point(const MeshData& mesh, const std::vector<Float3>& nor
 // The camera's cull of a sample (see the file comment): the vertex bake's,
 // and the face turned towards the camera.
 bool candidate(const CameraLook& look, const SurfaceSample& sp, CameraProjection& proj) {
-  return look.candidate(sp.p, sp.n, proj) && dot(sp.face, look.centre() - sp.p) > 0;
+  // The face test first: the cheapest (the same conjunction).
+  return dot(sp.face, look.centre() - sp.p) > 0 && look.candidate(sp.p, sp.n, proj);
+}
+
+// Per triangle of mesh, 0 where no point of it can pass candidate()'s face
+// test for a camera at `centre`: dot(face, C - p) is the same for every
+// point p of the triangle's plane (face . (p - a) = 0), so a triangle with
+// dot(face, C - a) <= -tol is culled whole before any of its samples is
+// placed on the surface (half of a closed mesh, per camera). tol is some
+// 1e7 times the rounding error of the per-sample test (which still runs on
+// the others), so no sample that test would keep is culled: the same result.
+std::vector<uint8_t> facing_triangles(const MeshData& mesh, Vec3 centre) {
+  std::vector<uint8_t> facing(mesh.triangles.size());
+  parallel_for_chunks(facing.size(), 1 << 14, [&](std::size_t begin, std::size_t end) {
+    const auto vec = [](Float3 f) { return Vec3{f.x, f.y, f.z}; };
+    for (std::size_t t = begin; t < end; ++t) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3 a = vec(mesh.positions[tri[0]]), b = vec(mesh.positions[tri[1]]),
+                 c = vec(mesh.positions[tri[2]]);
+      const Vec3 face = cross(b - a, c - a);
+      const double tol = 1e-9 * length(face) *
+                         (length(centre - a) + length(a) + length(b) + length(c) + length(centre));
+      facing[t] = dot(face, centre - a) > -tol;
+    }
+  });
+  return facing;
 }
 
 // Calls fn(s) for the samples s in [begin, end) whose bit is set.
@@ -55,12 +80,72 @@ void for_each_seen(const std::vector<uint64_t>& bits, std::size_t begin, std::si
   }
 }
 
+// A masked photo's mask (its alpha as loaded), kept from stage 1 for stages
+// 3 and 4 at one byte a pixel: only when every alpha value is one an 8-bit
+// file decodes to (b * (1 / 255) for every pixel, or b / 255 for every
+// pixel), so that it is given back exactly. Otherwise not kept, and those
+// stages read the photo again.
+struct KeptMask {
+  int width = 0, height = 0;
+  bool divided = false;  // b / 255 (else b * (1 / 255))
+  std::vector<uint8_t> alpha;
+};
+
+std::optional<KeptMask> keep_mask(const PhotoImage& image) {
+  const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
+  KeptMask kept{image.width, image.height, false, std::vector<uint8_t>(n)};
+  const auto byte_of = [](float a) {
+    return a >= 0 && a <= 1 ? static_cast<uint8_t>(a * 255.0f + 0.5f) : uint8_t{0};
+  };
+  for (const bool divided : {false, true}) {
+    const auto decode = [divided](uint8_t b) {
+      return divided ? static_cast<float>(b) / 255.0f : static_cast<float>(b) * (1.0f / 255.0f);
+    };
+    std::vector<uint8_t> ok(block_count(n, 1 << 16), 1);
+    parallel_for_blocks(n, 1 << 16, [&](std::size_t block, std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) {
+        const float a = image.pixels[4 * i + 3];
+        kept.alpha[i] = byte_of(a);
+        if (decode(kept.alpha[i]) != a) ok[block] = 0;
+      }
+    });
+    if (std::all_of(ok.begin(), ok.end(), [](uint8_t v) { return v != 0; })) {
+      kept.divided = divided;
+      return kept;
+    }
+  }
+  return std::nullopt;
+}
+
+// The kept mask as an image whose alpha is the photo's (R, G, B 0: only
+// alpha is sampled, and bilinear interpolation treats channels apart).
+PhotoImage mask_image(const KeptMask& kept) {
+  PhotoImage image;
+  image.width = kept.width;
+  image.height = kept.height;
+  image.color_space = ColorSpace::kLinear;
+  const std::size_t n = kept.alpha.size();
+  image.pixels.resize(4 * n);
+  parallel_for_chunks(n, 1 << 16, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) {
+      const uint8_t a = kept.alpha[i];
+      float* px = &image.pixels[4 * i];
+      px[0] = px[1] = px[2] = 0;
+      px[3] =
+          kept.divided ? static_cast<float>(a) / 255.0f : static_cast<float>(a) * (1.0f / 255.0f);
+    }
+  });
+  return image;
+}
+
 // A masked photo read again for its mask (stages 3 and 4), or none for an
 // unmasked one (whose mask is 1 everywhere). Errors: load_photo's (an
 // unreadable photo: stage 1 read it, so now an error).
 Expected<std::optional<PhotoImage>> read_for_mask(const Photo& photo, const PhotoReader& read,
-                                                  bool masked) {
+                                                  bool masked,
+                                                  const std::optional<KeptMask>& kept) {
   if (!masked) return std::optional<PhotoImage>();
+  if (kept) return std::optional<PhotoImage>(mask_image(*kept));
   PhotoCameraStats scratch_stats;
   std::vector<std::string> scratch_warnings;  // the vertex bake gave them
   bool unreadable = false;
@@ -104,7 +189,18 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
 
   // 1. The vertex photo bake: the gains, and the per-vertex colours of the fill.
   t0 = Clock::now();
-  Expected<PhotoBakeResult> vertex = bake_vertex_from_photos(uv_mesh, all_photos, po, read);
+  // Its photos' masks kept for stages 3 and 4 (indexed as result.cameras).
+  std::vector<std::optional<KeptMask>> kept_masks;
+  PhotoBakeOptions vertex_options = po;
+  vertex_options.on_photo = [&kept_masks](std::size_t c, const PhotoImage& image) {
+    if (kept_masks.size() <= c) kept_masks.resize(c + 1);
+    bool masked = false;
+    for (std::size_t i = 3; i < image.pixels.size() && !masked; i += 4)
+      masked = image.pixels[i] < 1;
+    if (masked) kept_masks[c] = keep_mask(image);
+  };
+  Expected<PhotoBakeResult> vertex =
+      bake_vertex_from_photos(uv_mesh, all_photos, vertex_options, read);
   if (!vertex) return vertex.error();
   // The photos stage 1 could read (it left the others out, with warnings).
   result.skipped = std::move(vertex->skipped);
@@ -118,6 +214,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     if (!result.skipped.empty()) readable.push_back(all_photos[p]);
   }
   const std::vector<Photo>& photos = result.skipped.empty() ? all_photos : readable;
+  kept_masks.resize(photos.size());
   result.cameras = std::move(vertex->cameras);
   result.consistency = vertex->consistency;
   result.warnings = std::move(vertex->warnings);
@@ -158,12 +255,14 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   for (std::size_t c = 0; c < photos.size(); ++c) {
     const CameraLook look(photos[c].camera, po.max_view_angle_deg);
     const bool masked = result.cameras[c].masked;
-    Expected<std::optional<PhotoImage>> mask_image = read_for_mask(photos[c], read, masked);
+    Expected<std::optional<PhotoImage>> mask_image =
+        read_for_mask(photos[c], read, masked, kept_masks[c]);
     if (!mask_image) return mask_image.error();
     const ImageView mask_view = view_of(*mask_image);
     std::vector<uint64_t>& bits = seen_by[c];
     bits.assign(words, 0);
     std::vector<std::size_t> in_view(blocks, 0), visible(blocks, 0);
+    const std::vector<uint8_t> facing = facing_triangles(uv_mesh, look.centre());
     parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
       std::vector<uint32_t> candidates;
       std::vector<Vec3> points;
@@ -173,6 +272,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
       SegmentScratch scratch;
       std::vector<uint8_t> occluded;
       for (std::size_t s = begin; s < end; ++s) {
+        if (!facing[raster.sample_triangle[s]]) continue;  // candidate() would say no
         const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
         CameraProjection proj;
         if (!candidate(look, sp, proj)) continue;
@@ -221,7 +321,8 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     for (std::size_t c = 0; c < photos.size(); ++c) {
       const CameraLook look(photos[c].camera, po.max_view_angle_deg);
       const bool masked = result.cameras[c].masked;
-      Expected<std::optional<PhotoImage>> mask_image = read_for_mask(photos[c], read, masked);
+      Expected<std::optional<PhotoImage>> mask_image =
+          read_for_mask(photos[c], read, masked, kept_masks[c]);
       if (!mask_image) return mask_image.error();
       const ImageView mask_view = view_of(*mask_image);
       const std::vector<uint64_t>& bits = seen_by[c];
@@ -237,7 +338,8 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     }
   }
 
-  // 5. Colour pass, one photo at a time.
+  // 5. Colour pass, one photo at a time (the next one decoded meanwhile).
+  const PhotoReader read_in_order = photo_detail::prefetching_reader(read, photos);
   std::vector<std::array<float, 3>> rgb(ns, {0.f, 0.f, 0.f});
   std::vector<float> cosine;  // keep_points: the weighted sum of cos(theta)
   if (po.keep_points) cosine.assign(ns, 0.f);
@@ -247,7 +349,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     std::vector<std::string> scratch_warnings;  // the vertex bake gave them
     bool unreadable = false;                    // read by stage 1 already: now an error
     Expected<PhotoImage> image =
-        photo_detail::load_photo(photo, read, scratch_stats, scratch_warnings, unreadable);
+        photo_detail::load_photo(photo, read_in_order, scratch_stats, scratch_warnings, unreadable);
     if (!image) {
       return unreadable ? photo_detail::unreadable_photo_error(photo, image.error())
                         : image.error();

@@ -41,14 +41,17 @@
 // rule (face normal . d > 0), which the smooth normal alone can miss at
 // creases.
 //
-// A masked photo (stats.masked from stage 1) is read again for its mask in
-// stage 3 and, for kSoft, stage 4: four reads instead of two (a photo
-// without alpha and mask file is read twice), so that only one photo is
-// ever in memory; no per-camera mask values are kept.
+// A masked photo's mask (its alpha) is kept from stage 1 for stages 3 and 4
+// at one byte a pixel when every alpha value is one an 8-bit file decodes
+// to (given back exactly); otherwise the photo is read again for it in
+// stage 3 and, for kSoft, stage 4. Stages 1 and 5 decode the next photo
+// while they work on one (photo_view.h prefetching_reader): two photos in
+// memory at once. Every photo is read twice (stages 1 and 5).
 //
 // Memory: the samples (12 bytes each), per sample q_max, W and the colour
 // (20 bytes; kBest 4 more), one bit per camera and sample, the atlas, the
-// Embree scene and one photo: a 2048 atlas with 4 samples (about 12 M
+// Embree scene, two photos (the one baked, the next one read) and the kept
+// masks (one byte per pixel of each masked photo): a 2048 atlas with 4 samples (about 12 M
 // samples at 70 % coverage) and 100 photos holds some 0.6 GB besides the
 // photo and the scene (measured: the bunny subdivided to 1.2 M triangles,
 // 10.6 M samples, 8 photos of 960 x 720: 0.81 GB peak for the whole
@@ -114,8 +117,9 @@ struct PhotoAtlasBakeResult {
 // the wrong size, no photos, ...), rasterize_atlas's (bad size or samples,
 // no UVs, bad UVs), kInvalidArgument for a bad padding, kInternal (Embree).
 // `reader` (default: mesh_io's read_image) is called twice per photo, in
-// photo order: by stage 1, then by stage 5; a masked photo's also by stage
-// 3 and (kSoft) stage 4. Errors also: a mask file's (read_mask's, or of
+// photo order, one call at a time: by stage 1, then by stage 5; a masked
+// photo whose mask was not kept (see above) also by stage 3 and (kSoft)
+// stage 4. Errors also: a mask file's (read_mask's, or of
 // another size than its photo).
 Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
                                                       const std::vector<Photo>& photos,

@@ -175,7 +175,9 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
                                                   const PhotoBakeOptions& options,
                                                   const PhotoReader& reader) {
   if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
-  const PhotoReader read = reader ? reader : PhotoReader(photo_detail::read_photo_file);
+  // The next photo decoded while this one is baked.
+  const PhotoReader read = photo_detail::prefetching_reader(
+      reader ? reader : PhotoReader(photo_detail::read_photo_file), photos);
   const std::size_t n = mesh.positions.size();
   PhotoBakeResult result;
 
@@ -218,6 +220,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     used.push_back(&photo);
     result.cameras.push_back(std::move(loaded));
     PhotoCameraStats& stats = result.cameras.back();
+    if (options.on_photo) options.on_photo(c, *image);
     const ImageView view{image->width, image->height, image->pixels.data()};
     const bool masked = stats.masked;
     if (masked && mask_value.empty()) mask_value.assign(n, 1.f);

@@ -5,8 +5,8 @@
 // camera's centre, and the photos that see it are blended per vertex in
 // linear light with exposure gains.
 //
-// Per camera, in order (photos are read one at a time, so memory holds one
-// photo plus the samples):
+// Per camera, in order (photos are read one at a time, the next one while
+// this one is baked, so memory holds two photos plus the samples):
 //  1. cull: the vertex projects inside the photo, in front of the camera,
 //     with its smooth normal within 75 degrees of d = normalize(C - P)
 //     (back-facing and grazing points are not seen);
@@ -76,6 +76,8 @@ struct Photo {
 enum class PhotoBlend { kSoft, kBest, kMean };
 enum class ExposureMode { kGain, kNone };
 
+struct PhotoImage;
+
 struct PhotoBakeOptions {
   PhotoBlend blend = PhotoBlend::kSoft;
   ExposureMode exposure = ExposureMode::kGain;  // ignored with a single photo
@@ -92,6 +94,12 @@ struct PhotoBakeOptions {
   // Keep the blend per point (PhotoPoints below: a "cameras" layer,
   // bake/layers/layers_bake.h, composites it instead of the colours).
   bool keep_points = false;
+  // Called with each photo the bake uses (its index among them, as in
+  // PhotoBakeResult::cameras) and its image as loaded (linear light, alpha
+  // its mask; photo_view.h load_photo), before the bake samples it; empty:
+  // not called. The photo atlas keeps the masks from it, so that its later
+  // passes need not read and decode the photos again for them.
+  std::function<void(std::size_t, const PhotoImage&)> on_photo;
   // A photo that cannot be read (missing, unreadable, not an image: its
   // reader's error) is left out with a warning and listed in `skipped`
   // (SPEC section 9); with strict_photos it is an error (--strict-photos).

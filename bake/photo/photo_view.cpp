@@ -127,6 +127,47 @@ void skip_photo(const Photo& photo, const Error& read, std::vector<SkippedPhoto>
   warnings.push_back("the photo of camera " + photo.name + " is left out: " + read.message);
 }
 
+namespace {
+
+// prefetching_reader's state: the one read ahead, if any.
+struct Prefetch {
+  PhotoReader read;
+  const std::vector<Photo>* photos = nullptr;
+  BackgroundTask task;
+  std::size_t ahead = 0;  // the index being read in the background (valid when `started`)
+  bool started = false;
+  std::optional<Expected<PhotoImage>> image;
+
+  Expected<PhotoImage> operator()(const Photo& photo) {
+    const std::vector<Photo>& list = *photos;
+    const std::size_t i = static_cast<std::size_t>(&photo - list.data());
+    const bool in_list = &photo >= list.data() && i < list.size();
+    std::optional<Expected<PhotoImage>> got;
+    if (started) {
+      task.wait();
+      started = false;
+      if (in_list && ahead == i) got = std::move(image);
+      image.reset();
+    }
+    if (!got) got = read(photo);
+    if (in_list && i + 1 < list.size()) {
+      ahead = i + 1;
+      started = true;
+      task.run([this, next = &list[i + 1]] { image = read(*next); });
+    }
+    return std::move(*got);
+  }
+};
+
+}  // namespace
+
+PhotoReader prefetching_reader(const PhotoReader& read, const std::vector<Photo>& photos) {
+  auto state = std::make_shared<Prefetch>();
+  state->read = read;
+  state->photos = &photos;
+  return [state](const Photo& photo) { return (*state)(photo); };
+}
+
 Expected<PhotoImage> load_photo(const Photo& photo, const PhotoReader& read,
                                 PhotoCameraStats& stats, std::vector<std::string>& warnings,
                                 bool& unreadable) {

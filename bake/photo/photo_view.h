@@ -24,6 +24,17 @@ inline constexpr double kSoftTemperature = 0.1;  // --blend soft: exp(-(1 - q / 
 // mesh_io's read_image as a PhotoReader (the default reader).
 Expected<PhotoImage> read_photo_file(const Photo& photo);
 
+// `read` for a pass that reads photos[0], photos[1], ... in that order: when
+// asked for photos[i] (the element itself, by address) it returns its
+// image and starts reading photos[i + 1] in the background
+// (bake/util/parallel.h BackgroundTask), so that decoding the next photo
+// overlaps the work on this one. Calls of `read` stay one at a time and in
+// order (its side effects, such as progress, are as without it); a photo
+// asked for out of that order is read directly. Two decoded photos are in
+// memory at once. The reader must outlive the pass; its last background read
+// is waited for when it is destroyed.
+PhotoReader prefetching_reader(const PhotoReader& read, const std::vector<Photo>& photos);
+
 // Reads `photo` with `read`, checks its size (the camera's, or its aspect
 // at another size: then stats.scaled and a warning), records its size in
 // `stats` and linearises an sRGB photo in place (so that bilinear
@@ -98,13 +109,15 @@ class CameraLook {
   // The point p with the unit normal n is a candidate: it projects inside
   // the photo, in front of the camera, with n within the maximum angle
   // (75 degrees by default) of d = normalize(C - p), strictly (a zero n
-  // never is). Sets proj.
+  // never is). Sets proj when it returns true. The angle first: it is cheaper
+  // than the projection through the lens and turns away about half the
+  // points of a closed mesh (the same conjunction, so the same answer).
   bool candidate(Vec3 p, Vec3 n, CameraProjection& proj) const {
-    proj = camera_->project(p);
-    if (!proj.inside) return false;
     const Vec3 to_camera = centre_ - p;
     const double distance = length(to_camera);
-    return distance > 0 && dot(n, to_camera) > min_cosine_ * distance;
+    if (!(distance > 0 && dot(n, to_camera) > min_cosine_ * distance)) return false;
+    proj = camera_->project(p);
+    return proj.inside;
   }
 
   // The quality of a visible candidate, as stored (float, at least 1e-30

@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <optional>
@@ -60,6 +61,36 @@ void parallel_for_blocks(std::size_t n, std::size_t size,
   parallel_for_chunks(block_count(n, size), 1, [&](std::size_t first, std::size_t last) {
     for (std::size_t b = first; b < last; ++b) fn(b, b * size, std::min(n, (b + 1) * size));
   });
+}
+
+struct BackgroundTaskImpl {
+  tbb::task_group group;
+  std::optional<ForkJoin> fork_join;  // the task's hand-over, for ThreadSanitizer
+  bool running = false;
+};
+
+BackgroundTask::BackgroundTask() : impl_(std::make_unique<BackgroundTaskImpl>()) {}
+
+BackgroundTask::~BackgroundTask() {
+  wait();
+}
+
+void BackgroundTask::run(std::function<void()> fn) {
+  wait();
+  impl_->fork_join.emplace();
+  impl_->running = true;
+  impl_->group.run([this, fn = std::move(fn)] {
+    impl_->fork_join->begin_body();
+    fn();
+    impl_->fork_join->end_body();
+  });
+}
+
+void BackgroundTask::wait() {
+  if (!impl_->running) return;
+  impl_->group.wait();
+  impl_->fork_join->join();
+  impl_->running = false;
 }
 
 }  // namespace texbake

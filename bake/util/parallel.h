@@ -48,6 +48,25 @@ void parallel_for_blocks(
     std::size_t n, std::size_t size,
     const std::function<void(std::size_t block, std::size_t begin, std::size_t end)>& fn);
 
+// One task run beside the caller's own work, on the threads of the caller's
+// task arena (so RunOptions::threads bounds it too: with one thread it runs
+// when waited for). Work whose result the caller takes later, such as
+// decoding the next photo while this one is baked. The destructor waits.
+class BackgroundTask {
+ public:
+  BackgroundTask();
+  ~BackgroundTask();
+  BackgroundTask(const BackgroundTask&) = delete;
+  BackgroundTask& operator=(const BackgroundTask&) = delete;
+  // Starts fn; precondition: no task of this object is running (wait()).
+  void run(std::function<void()> fn);
+  // Returns once the task started by run() has finished (at once if none).
+  void wait();
+
+ private:
+  std::unique_ptr<struct BackgroundTaskImpl> impl_;
+};
+
 // The number of blocks parallel_for_blocks(n, size, ...) calls fn for.
 inline std::size_t block_count(std::size_t n, std::size_t size) {
   return (n + size - 1) / size;
