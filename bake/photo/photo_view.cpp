@@ -138,6 +138,10 @@ struct Prefetch {
   bool started = false;
   std::optional<Expected<PhotoImage>> image;
 
+  // A read still running writes `image`: wait for it before any member goes
+  // (a pass that stops early, on an error, leaves one running).
+  ~Prefetch() { task.wait(); }
+
   Expected<PhotoImage> operator()(const Photo& photo) {
     const std::vector<Photo>& list = *photos;
     const std::size_t i = static_cast<std::size_t>(&photo - list.data());
