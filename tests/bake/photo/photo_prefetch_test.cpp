@@ -94,6 +94,20 @@ TEST(PrefetchingReader, APhotoAskedForOutOfOrderIsStillItsOwn) {
   EXPECT_EQ(rec.most_in_flight.load(), 1);
 }
 
+// A pass that stops early (an error) drops the reader with the next photo's
+// read running: the reader waits for it, and its image is freed (the
+// sanitizer stage's LeakSanitizer sees it otherwise).
+TEST(PrefetchingReader, AReaderDroppedWithAReadRunningWaitsForIt) {
+  const std::vector<Photo> list = photos(3);
+  Recorder rec;
+  {
+    const PhotoReader read = photo_detail::prefetching_reader(rec.reader(), list);
+    ASSERT_TRUE(read(list[0]));
+  }
+  EXPECT_EQ(rec.calls, (std::vector<std::string>{"p0", "p1"}));
+  EXPECT_EQ(rec.in_flight.load(), 0);
+}
+
 TEST(BackgroundTask, RunsBesideTheCallerAndWaitReturnsAfterIt) {
   std::atomic<int> done{0};
   {
