@@ -91,6 +91,12 @@ struct KeptMask {
   std::vector<uint8_t> alpha;
 };
 
+// An 8-bit alpha as the file's decoding gave it: b / 255 when `divided`,
+// else b * (1 / 255) (the two differ in the last bit for some bytes).
+float alpha_of_byte(uint8_t b, bool divided) {
+  return divided ? static_cast<float>(b) / 255.0f : static_cast<float>(b) * (1.0f / 255.0f);
+}
+
 std::optional<KeptMask> keep_mask(const PhotoImage& image) {
   const std::size_t n = static_cast<std::size_t>(image.width) * image.height;
   KeptMask kept{image.width, image.height, false, std::vector<uint8_t>(n)};
@@ -98,15 +104,12 @@ std::optional<KeptMask> keep_mask(const PhotoImage& image) {
     return a >= 0 && a <= 1 ? static_cast<uint8_t>(a * 255.0f + 0.5f) : uint8_t{0};
   };
   for (const bool divided : {false, true}) {
-    const auto decode = [divided](uint8_t b) {
-      return divided ? static_cast<float>(b) / 255.0f : static_cast<float>(b) * (1.0f / 255.0f);
-    };
     std::vector<uint8_t> ok(block_count(n, 1 << 16), 1);
     parallel_for_blocks(n, 1 << 16, [&](std::size_t block, std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
         const float a = image.pixels[4 * i + 3];
         kept.alpha[i] = byte_of(a);
-        if (decode(kept.alpha[i]) != a) ok[block] = 0;
+        if (alpha_of_byte(kept.alpha[i], divided) != a) ok[block] = 0;
       }
     });
     if (std::all_of(ok.begin(), ok.end(), [](uint8_t v) { return v != 0; })) {
@@ -128,11 +131,9 @@ PhotoImage mask_image(const KeptMask& kept) {
   image.pixels.resize(4 * n);
   parallel_for_chunks(n, 1 << 16, [&](std::size_t b, std::size_t e) {
     for (std::size_t i = b; i < e; ++i) {
-      const uint8_t a = kept.alpha[i];
       float* px = &image.pixels[4 * i];
       px[0] = px[1] = px[2] = 0;
-      px[3] =
-          kept.divided ? static_cast<float>(a) / 255.0f : static_cast<float>(a) * (1.0f / 255.0f);
+      px[3] = alpha_of_byte(kept.alpha[i], kept.divided);
     }
   });
   return image;
@@ -192,11 +193,8 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   // Its photos' masks kept for stages 3 and 4 (indexed as result.cameras).
   std::vector<std::optional<KeptMask>> kept_masks;
   PhotoBakeOptions vertex_options = po;
-  vertex_options.on_photo = [&kept_masks](std::size_t c, const PhotoImage& image) {
+  vertex_options.on_photo = [&kept_masks](std::size_t c, const PhotoImage& image, bool masked) {
     if (kept_masks.size() <= c) kept_masks.resize(c + 1);
-    bool masked = false;
-    for (std::size_t i = 3; i < image.pixels.size() && !masked; i += 4)
-      masked = image.pixels[i] < 1;
     if (masked) kept_masks[c] = keep_mask(image);
   };
   Expected<PhotoBakeResult> vertex =

@@ -220,7 +220,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     used.push_back(&photo);
     result.cameras.push_back(std::move(loaded));
     PhotoCameraStats& stats = result.cameras.back();
-    if (options.on_photo) options.on_photo(c, *image);
+    if (options.on_photo) options.on_photo(c, *image, stats.masked);
     const ImageView view{image->width, image->height, image->pixels.data()};
     const bool masked = stats.masked;
     if (masked && mask_value.empty()) mask_value.assign(n, 1.f);

@@ -95,11 +95,12 @@ struct PhotoBakeOptions {
   // bake/layers/layers_bake.h, composites it instead of the colours).
   bool keep_points = false;
   // Called with each photo the bake uses (its index among them, as in
-  // PhotoBakeResult::cameras) and its image as loaded (linear light, alpha
-  // its mask; photo_view.h load_photo), before the bake samples it; empty:
+  // PhotoBakeResult::cameras), its image as loaded (linear light, alpha its
+  // mask; photo_view.h load_photo) and whether it is masked (some alpha
+  // below 1: PhotoCameraStats::masked), before the bake samples it; empty:
   // not called. The photo atlas keeps the masks from it, so that its later
   // passes need not read and decode the photos again for them.
-  std::function<void(std::size_t, const PhotoImage&)> on_photo;
+  std::function<void(std::size_t, const PhotoImage&, bool masked)> on_photo;
   // A photo that cannot be read (missing, unreadable, not an image: its
   // reader's error) is left out with a warning and listed in `skipped`
   // (SPEC section 9); with strict_photos it is an error (--strict-photos).

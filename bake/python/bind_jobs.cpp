@@ -77,11 +77,13 @@ py::list paths_list(const std::vector<std::filesystem::path>& paths) {
   return out;
 }
 
-// A job's result: outputs, warnings, fitted, report (JSON text), summary, seconds.
+// A job's result: outputs, warnings, notes, fitted, report (JSON text),
+// summary, seconds.
 py::dict job_dict(const JobResult& r) {
   py::dict d;
   d["outputs"] = paths_list(r.outputs);
   d["warnings"] = r.warnings;
+  d["notes"] = r.notes;
   d["fitted"] = r.fitted;
   d["report"] = r.report;
   d["summary"] = r.summary;

@@ -29,14 +29,21 @@ PhotoBakeOptions photo_options(const py::handle& blend, const py::handle& exposu
   return o;
 }
 
-// The photos of a camera model or list (read_cameras) with their masks
-// (find_masks, when `masks` is not None; its warnings in `warnings`), or of
-// one camera proxy file and its photo (read_camera_proxy; `options` then get
-// camera_proxy_options).
+// The photos of a camera model or list (read_cameras; the camera file's
+// notes in `notes`) with their masks (find_masks, when `masks` is not None;
+// its warnings in `warnings`), or of one camera proxy file and its photo
+// (read_camera_proxy; `options` then get camera_proxy_options).
 struct ReadPhotos {
   std::vector<Photo> photos;
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;
 };
+
+// The warnings and notes of reading the photos, ahead of the call's own.
+void prepend_read(const ReadPhotos& read, Stats& stats) {
+  stats.warnings.insert(stats.warnings.begin(), read.warnings.begin(), read.warnings.end());
+  stats.notes.insert(stats.notes.begin(), read.notes.begin(), read.notes.end());
+}
 ReadPhotos read_photos(const py::handle& cameras, const py::handle& images, const py::handle& masks,
                        PhotoFolder need = PhotoFolder::kNeeded) {
   const std::filesystem::path c = path_arg(cameras, "cameras");
@@ -45,14 +52,15 @@ ReadPhotos read_photos(const py::handle& cameras, const py::handle& images, cons
   const std::filesystem::path m =
       masks.is_none() ? std::filesystem::path{} : path_arg(masks, "masks");
   py::gil_scoped_release release;
-  ReadPhotos out{check(read_cameras(c, i, need)), {}};
+  ReadPhotos out;
+  out.photos = check(read_cameras(c, i, need, &out.notes));
   if (!m.empty()) check(find_masks(out.photos, m, "masks", &out.warnings));
   return out;
 }
 ReadPhotos read_camera(const py::handle& camera, const py::handle& photo) {
   const std::filesystem::path c = path_arg(camera, "camera"), p = path_arg(photo, "photo");
   py::gil_scoped_release release;
-  return {check(read_camera_proxy(c, p)), {}};
+  return {check(read_camera_proxy(c, p)), {}, {}};
 }
 
 // PhotoConsistency, as the report's "photo_agreement".
@@ -71,8 +79,7 @@ py::tuple vertex_from_photos(const LoadedMesh& mesh, const ReadPhotos& photos,
   PhotoColors baked = run_released<PhotoColors>(run, [&](const RunOptions& r) {
     return bake_vertex_colors_from_photos(mesh.mesh, photos.photos, o, r);
   });
-  std::vector<std::string>& warnings = baked.stats.warnings;
-  warnings.insert(warnings.begin(), photos.warnings.begin(), photos.warnings.end());
+  prepend_read(photos, baked.stats);
   py::dict stats = bake_stats(baked.stats, ReportSource::kPhotos, /*atlas=*/false);
   stats["photos_skipped"] = skipped_list(baked.skipped);
   stats["photo_agreement"] = consistency_dict(baked.consistency);
@@ -86,8 +93,7 @@ py::tuple atlas_from_photos(const LoadedMesh& mesh, const ReadPhotos& photos,
   PhotoAtlas baked = run_released<PhotoAtlas>(run, [&](const RunOptions& r) {
     return bake_atlas_texture_from_photos(mesh.mesh, photos.photos, o, a, r);
   });
-  std::vector<std::string>& warnings = baked.atlas.stats.warnings;
-  warnings.insert(warnings.begin(), photos.warnings.begin(), photos.warnings.end());
+  prepend_read(photos, baked.atlas.stats);
   py::list cameras = cameras_list(baked.cameras);
   const PhotoConsistency consistency = baked.consistency;
   py::object atlas =
@@ -203,7 +209,7 @@ py::object alignment_dict(const ModelAlignment& a) {
 // cameras check: per camera its dict (the geometric figures, and shared,
 // deviation, gain when the photo agreement is measured: None for a photo
 // left out); the model's alignment, the photo agreement (None: not
-// measured), why not, and the warnings.
+// measured), why not, the warnings and the camera file's notes.
 py::tuple camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle images,
                         py::handle masks, bool photos_agreement, py::handle threads) {
   // As the CLI: a model outside a workspace needs no photo folder (then
@@ -242,7 +248,7 @@ py::tuple camera_checks(const LoadedMesh& mesh, py::handle cameras, py::handle i
   py::object agreement =
       check.agreement_measured ? py::object(consistency_dict(check.consistency)) : py::none();
   return py::make_tuple(out, alignment_dict(check.alignment), agreement,
-                        check.agreement_not_measured, warnings);
+                        check.agreement_not_measured, warnings, photos.notes);
 }
 
 // cameras refine: per photo its refined camera (model, size, params, R,
@@ -272,8 +278,7 @@ py::tuple refine(const LoadedMesh& mesh, py::handle cameras, py::handle images, 
   PyRun run(threads, std::move(progress));
   RefinedCameras refined = run_released<RefinedCameras>(
       run, [&](const RunOptions& r) { return refine_cameras(mesh.mesh, read.photos, o, r); });
-  std::vector<std::string>& warnings = refined.stats.warnings;
-  warnings.insert(warnings.begin(), read.warnings.begin(), read.warnings.end());
+  prepend_read(read, refined.stats);
   py::list out;
   for (const RefinedPose& p : refined.photos) {
     const CameraSpec& spec = p.camera.spec();

@@ -392,6 +392,7 @@ py::dict stats_dict(const Stats& s) {
   out["counts"] = counts;
   out["timings"] = timings;
   out["warnings"] = s.warnings;
+  out["notes"] = s.notes;
   return out;
 }
 

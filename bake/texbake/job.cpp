@@ -96,6 +96,17 @@ class JobRun {
     if (job_.on_warning) job_.on_warning(text);
   }
 
+  void note(const std::string& text) {
+    result_.notes.push_back(text);
+    if (job_.on_note) job_.on_note(text);
+  }
+
+  // A bake's warnings and notes, as the job's.
+  void pass_on(const Stats& stats) {
+    for (const std::string& w : stats.warnings) warn(w);
+    for (const std::string& n : stats.notes) note(n);
+  }
+
   RunOptions run_options() const { return RunOptions{job_.threads, job_.progress}; }
 
   // An error of a call on the mesh: the API's errors do not name its file,
@@ -202,7 +213,7 @@ class JobRun {
     if (!done) return done.error();
     result_.fitted = done->fitted;
     report_.fit = done->stats.timings.fit;
-    if (job_.on_note && !done->note.empty()) job_.on_note(done->note);
+    if (!done->note.empty()) note(done->note);
     return std::move(done->proxy);
   }
 
@@ -274,7 +285,7 @@ class JobRun {
       Expected<Atlas> baked =
           bake_atlas_texture(mesh->take().mesh, image->get().view(), *proxy, options, run);
       if (!baked) return mesh_error(baked.error());
-      for (const std::string& w : baked->stats.warnings) warn(w);
+      pass_on(baked->stats);
       report_.stats = result_.stats = baked->stats;
       report_.atlas = AtlasReport{options.bake, baked->uv};
       if (Status s = write_atlas_set(*baked,
@@ -315,7 +326,7 @@ class JobRun {
         *proxy, job_.shading, run, scene.get());
     if (!baked) return mesh_error(baked.error());
     if (scene) baked->stats.timings.scene_build = scene_build;
-    for (const std::string& w : baked->stats.warnings) warn(w);
+    pass_on(baked->stats);
     report_.stats = result_.stats = baked->stats;
     if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,
                                     [&](double write) {
@@ -372,8 +383,7 @@ class JobRun {
              alignment_figures(*a) + " (--no-alignment-check: no check)");
         break;
       case AlignmentVerdict::kAligned:
-        if (job_.on_note)
-          job_.on_note("model " + model + " is in the mesh's frame: " + alignment_figures(*a));
+        note("model " + model + " is in the mesh's frame: " + alignment_figures(*a));
         break;
     }
     return ok_status();
@@ -387,9 +397,7 @@ class JobRun {
         job_.photo ? Expected<std::vector<Photo>>(std::vector<Photo>{*job_.photo})
                    : read_cameras(job_.cameras, job_.images, PhotoFolder::kNeeded, &notes);
     if (!photos) return photos.error();
-    if (job_.on_note) {
-      for (const std::string& n : notes) job_.on_note(n);
-    }
+    for (const std::string& n : notes) note(n);
     if (!job_.masks.empty()) {
       std::vector<std::string> mask_warnings;
       if (Status s = find_masks(*photos, job_.masks, "--masks", &mask_warnings); !s) return s;
@@ -407,7 +415,7 @@ class JobRun {
       Expected<PhotoAtlas> baked =
           bake_atlas_texture_from_photos(mesh->get().mesh, *photos, options, job_.atlas, run);
       if (!baked) return photo_error(baked.error());
-      for (const std::string& w : baked->atlas.stats.warnings) warn(w);
+      pass_on(baked->atlas.stats);
       result_.stats = baked->atlas.stats;
       if (Status s = write_atlas_set(baked->atlas,
                                      [&](double write) {
@@ -428,7 +436,7 @@ class JobRun {
     Expected<PhotoColors> baked =
         bake_vertex_colors_from_photos(mesh->get().mesh, *photos, options, run);
     if (!baked) return photo_error(baked.error());
-    for (const std::string& w : baked->stats.warnings) warn(w);
+    pass_on(baked->stats);
     result_.stats = baked->stats;
     if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,
                                     [&](double write) {
@@ -488,7 +496,7 @@ class JobRun {
       Expected<LayerAtlas> baked =
           bake_atlas_texture_from_layers(mesh->get().mesh, *spec, options, job_.atlas, run);
       if (!baked) return layer_error(baked.error());
-      for (const std::string& w : baked->atlas.stats.warnings) warn(w);
+      pass_on(baked->atlas.stats);
       result_.stats = baked->atlas.stats;
       if (Status s = write_atlas_set(baked->atlas,
                                      [&](double write) {
@@ -509,7 +517,7 @@ class JobRun {
     Expected<LayerColors> baked =
         bake_vertex_colors_from_layers(mesh->get().mesh, *spec, options, run);
     if (!baked) return layer_error(baked.error());
-    for (const std::string& w : baked->stats.warnings) warn(w);
+    pass_on(baked->stats);
     result_.stats = baked->stats;
     if (Status s = write_vertex_set(mesh->get().mesh, baked->colors,
                                     [&](double write) {

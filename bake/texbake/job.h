@@ -145,8 +145,9 @@ struct Job {
   std::shared_ptr<JobCache> cache;
 
   // Called as they happen (e.g. to print them live): each warning (also
-  // in JobResult::warnings) and each note ("fitted sphere (center radius)
-  // to 120 vertices of m.ply: {...}"). May be empty.
+  // in JobResult::warnings) and each note (also in JobResult::notes:
+  // "fitted sphere (center radius) to 120 vertices of m.ply: {...}", a
+  // camera file's reader's, the model's alignment). May be empty.
   std::function<void(const std::string&)> on_warning, on_note;
 };
 
@@ -155,6 +156,7 @@ struct JobResult {
   std::optional<Error> error;  // none: the job succeeded
   int exit_code = 0;           // the command line's: 0 ok, 2 usage (kUsage), 1 otherwise
   std::vector<std::string> warnings;
+  std::vector<std::string> notes;   // what the job did that the user must know (Job::on_note)
   std::vector<std::string> fitted;  // the proxy's fields filled by the fit (keys or flags)
   std::vector<std::filesystem::path> outputs;  // the files written (the report last)
   std::string report;   // the report's JSON text (texbake/report.h); "" when it failed

@@ -66,15 +66,18 @@ std::string cameras_name(const std::filesystem::path& cameras) {
 }
 
 // The photos of every "cameras" layer (by layer index; empty for the
-// others), with their "masks" (find_masks; its warnings into `warnings`).
+// others), with their "masks" (find_masks; its warnings into `warnings`;
+// the camera files' notes into `notes`).
 Expected<std::vector<std::vector<Photo>>> read_layer_cameras(const LayersSpec& spec,
-                                                             std::vector<std::string>& warnings) {
+                                                             std::vector<std::string>& warnings,
+                                                             std::vector<std::string>& notes) {
   std::vector<std::vector<Photo>> photos(spec.layers.size());
   for (std::size_t i = 0; i < spec.layers.size(); ++i) {
     const LayerSpec& l = spec.layers[i];
     if (l.cameras.empty()) continue;
     const std::string key = "layers[" + std::to_string(i) + "]";
-    Expected<std::vector<Photo>> read = read_cameras(l.cameras, l.images);
+    Expected<std::vector<Photo>> read =
+        read_cameras(l.cameras, l.images, PhotoFolder::kNeeded, &notes);
     if (!read) {
       Error e = read.error();
       e.message = key + ": " + e.message;
@@ -200,14 +203,16 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     progress.start("layers", spec.layers.size());
     // The images stay alive for the bake: every layer's texture and mask.
     std::vector<Image> images;
-    std::vector<std::string> mask_warnings;
-    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec, mask_warnings);
+    std::vector<std::string> mask_warnings, notes;
+    Expected<std::vector<std::vector<Photo>>> photos =
+        read_layer_cameras(spec, mask_warnings, notes);
     if (!photos) return photos.error();
     Expected<std::vector<LayerInput>> inputs =
         read_layer_inputs(spec, progress, images, options.cache_mb);
     if (!inputs) return inputs.error();
     LayerColors out;
     out.stats.warnings = std::move(mask_warnings);
+    out.stats.notes = std::move(notes);
     // "cameras" layers: the photo bake's blend per vertex.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);
@@ -293,8 +298,9 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
   return detail::run_call<LayerAtlas>(run, [&]() -> Expected<LayerAtlas> {
     progress.start("layers", spec.layers.size());
     std::vector<Image> images;
-    std::vector<std::string> mask_warnings;
-    Expected<std::vector<std::vector<Photo>>> photos = read_layer_cameras(spec, mask_warnings);
+    std::vector<std::string> mask_warnings, notes;
+    Expected<std::vector<std::vector<Photo>>> photos =
+        read_layer_cameras(spec, mask_warnings, notes);
     if (!photos) return photos.error();
     Expected<std::vector<LayerInput>> inputs =
         read_layer_inputs(spec, progress, images, options.cache_mb);
@@ -306,6 +312,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     }
     std::vector<std::string>& warnings = out.atlas.stats.warnings;
     warnings.insert(warnings.begin(), mask_warnings.begin(), mask_warnings.end());
+    out.atlas.stats.notes = std::move(notes);
     // "cameras" layers: the photo atlas bake's blend per vertex and sample.
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);

@@ -143,6 +143,10 @@ struct Stats {
   Counts counts;
   Timings timings;
   std::vector<std::string> warnings;  // e.g. "12 UV corners lie outside [0, 1] ..."
+  // What the call did that the user must know, not a fault: e.g. a camera
+  // file reader's "transforms.json: applied_transform undone ..." (a layers
+  // bake's cameras layers). The command line prints them unless --quiet.
+  std::vector<std::string> notes;
 };
 
 // ---- Proxies --------------------------------------------------------------

@@ -183,6 +183,31 @@ TEST_F(CameraFormatsCli, NerfstudioTransformsBakeAndCheckAsTheirColmapModel) {
   EXPECT_NE(check_ns.err.find("applied_transform"), std::string::npos) << check_ns.err;
 }
 
+// A layers file's "cameras" layer reads camera files as --cameras does, and
+// the reader's note is printed as bake --cameras prints it (not with -q).
+TEST_F(CameraFormatsCli, ACamerasLayersFileNotesArePrinted) {
+  const fs::path& d = *dir_;
+  const std::string bunny = q(kData + "/bunny00.off");
+  const fs::path layers = d / "ns_layers.json";
+  std::ofstream(layers) << nlohmann::json{{"base", {0.5, 0.5, 0.5, 1}},
+                                          {"layers", {{{"cameras", "ws/transforms.json"}}}}}
+                               .dump();
+  const std::string note =
+      (d / "ws/transforms.json").string() +
+      ": the poses are taken back to the frame of the data they were made from";
+  for (const std::string ext : {".ply", ".glb"}) {
+    const std::string size = ext == ".glb" ? " --size 64" : "";
+    testing_cli::RunResult r = run_texbake("bake " + bunny + " --layers " + q(layers) + size +
+                                           " -o " + q(d / ("layers" + ext)));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.err.find("texbake: " + note), std::string::npos) << r.err;
+    r = run_texbake("bake " + bunny + " --layers " + q(layers) + size + " -q -o " +
+                    q(d / ("quiet" + ext)));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+  }
+}
+
 TEST_F(CameraFormatsCli, ConvertWritesAColmapModelThatProjectsAsTheInput) {
   const fs::path& d = *dir_;
   // A stale binary model in the output folder is replaced, not left to win.

@@ -81,7 +81,7 @@ TEST_F(GltfInputCli, TruncatedGlbIsExitOneNamingTheFileWithoutOutput) {
   std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   testing_cli::write_ppm(dir_ / "t.ppm", 1, 1, {10, 20, 30});
   const fs::path out = dir_ / "out.ply";
-  for (const std::string cmd :
+  for (const std::string& cmd :
        {"info " + shell_quote(cut.string()),
         "bake " + shell_quote(cut.string()) + " --texture " +
             shell_quote((dir_ / "t.ppm").string()) + " --proxy sphere -o " +

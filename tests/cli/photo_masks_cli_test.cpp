@@ -96,7 +96,8 @@ TEST_F(PhotoMasksCli, MasksFolderGivesTheBytesOfTheSameMasksInTheAlpha) {
     ASSERT_EQ(photo->width, kW);
     for (int j = 0; j < kH; ++j) {
       for (int i = 0; i < kW; ++i) {
-        if (mask_value(k, i, j) == 0) photo->pixels[(std::size_t{j} * kW + i) * 4 + 3] = 0;
+        if (mask_value(k, i, j) == 0)
+          photo->pixels[(static_cast<std::size_t>(j) * kW + i) * 4 + 3] = 0;
       }
     }
     ASSERT_TRUE(write_image(t / "images" / view(k), photo->view()));
@@ -169,7 +170,7 @@ TEST_F(PhotoMasksCli, BadMasksAreErrorsWithNoOutput) {
   small.width = 160, small.height = 120;
   small.pixels.assign(std::size_t{160} * 120 * 4, 1.f);
   ASSERT_TRUE(write_image(t / "masks" / (view(1) + ".png"), small.view()));
-  for (const fs::path o : {out, t / "out.obj"}) {
+  for (const fs::path& o : {out, t / "out.obj"}) {
     r = run_texbake("bake " + bunny + model + " --masks " + q(t / "masks") + " -o " + q(o));
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.err.find("texbake: error: the mask of camera view_01.png: " +

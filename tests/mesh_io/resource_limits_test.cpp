@@ -105,8 +105,8 @@ int run_with_memory_cap(long extra_mb, const std::function<int()>& fn) {
   if (pid == 0) {
     long pages = 0;
     std::ifstream("/proc/self/statm") >> pages;
-    const rlim_t cap =
-        static_cast<rlim_t>(pages) * ::sysconf(_SC_PAGESIZE) + static_cast<rlim_t>(extra_mb) << 20;
+    const rlim_t cap = static_cast<rlim_t>(pages) * ::sysconf(_SC_PAGESIZE) +
+                       (static_cast<rlim_t>(extra_mb) << 20);
     const struct rlimit limit { cap, cap };
     ::setrlimit(RLIMIT_AS, &limit);
     ::_exit(fn());

@@ -187,3 +187,57 @@ def test_refine_cameras_is_the_cli_and_keeps_true_poses(tmp_path):
                 "-o", tmp_path / "masked")
     assert r.returncode == 1 and "no point of the mesh is seen by two photos" in r.stderr
     assert not (tmp_path / "masked").exists()
+
+
+def test_a_camera_files_notes_reach_every_result(tmp_path):
+    """What a camera file's reader did (here a nerfstudio transforms.json's
+    applied_transform undone) is a note, as the CLI prints it: in the photo
+    bakes' stats (both targets), a layers bake's cameras layer, check_cameras
+    and run_job. The file is written here from the COLMAP model by numpy
+    (camera-to-world, OpenGL axes, the world re-framed by applied_transform
+    as nerfstudio's colmap_to_json does: rows x, z, -y), so its bake must
+    equal the model's."""
+    bunny = DATA / "bunny00.off"
+    ws = tmp_path / "ws"
+    r = run_cli("render", bunny, "--texture", DATA / "earth.jpg", "--proxy", "sphere", "--up", "y",
+                "--unlit", "--views", "3", "--size", "96x72", "--colmap", ws)
+    assert r.returncode == 0, r.stderr
+    cams = (ws / "sparse" / "0" / "cameras.txt").read_text().split("\n")
+    w, h, fx, fy, cx, cy = next(l.split()[2:] for l in cams if l and l[0] != "#"
+                                and l.split()[1] == "PINHOLE")
+    applied = np.array([[1, 0, 0, 0], [0, 0, 1, 0], [0, -1, 0, 0], [0, 0, 0, 1]], float)
+    frames = []
+    for name, (rot, t) in sorted(read_model(ws / "sparse" / "0").items()):
+        c2w = np.eye(4)
+        c2w[:3, :3] = rot.T @ np.diag([1, -1, -1])  # OpenCV -> OpenGL axes
+        c2w[:3, 3] = -rot.T @ t
+        frames.append({"file_path": "images/" + name,
+                       "transform_matrix": (applied @ c2w).tolist()})
+    transforms = ws / "transforms.json"
+    transforms.write_text(json.dumps({
+        "camera_model": "OPENCV", "w": int(w), "h": int(h), "fl_x": float(fx), "fl_y": float(fy),
+        "cx": float(cx), "cy": float(cy), "frames": frames,
+        "applied_transform": applied[:3].tolist()}))
+    note = f"{transforms}: the poses are taken back to the frame of the data they were made from"
+
+    def noted(notes):
+        return len(notes) == 1 and notes[0].startswith(note)
+
+    mesh = texbake.read_mesh(bunny)
+    colors, stats, _ = texbake.bake_vertex_from_photos(mesh, cameras=transforms)
+    model_colors, model_stats, _ = texbake.bake_vertex_from_photos(mesh, cameras=ws / "sparse" / "0")
+    assert np.abs(colors - model_colors).max() < 1e-4
+    assert noted(stats["notes"]) and model_stats["notes"] == []
+    atlas, _ = texbake.bake_atlas_from_photos(mesh, cameras=transforms, size=64)
+    assert noted(atlas.stats["notes"])
+    layers = tmp_path / "layers.json"
+    layers.write_text(json.dumps({"base": [0.5, 0.5, 0.5, 1],
+                                  "layers": [{"cameras": str(transforms)}]}))
+    _, layer_stats, _ = texbake.bake_vertex_from_layers(mesh, layers=layers)
+    assert noted(layer_stats["notes"])
+    assert noted(texbake.check_cameras(mesh, cameras=transforms, photos=False).notes)
+    job = texbake.run_job(bunny, tmp_path / "job.ply", cameras=str(transforms))
+    assert noted(job["notes"]) and job["warnings"] == []
+    # The CLI prints the same line (and --quiet drops it).
+    r = run_cli("bake", bunny, "--cameras", transforms, "-o", tmp_path / "cli.ply")
+    assert r.returncode == 0 and f"texbake: {note}" in r.stderr, r.stderr

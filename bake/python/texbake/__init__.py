@@ -354,7 +354,8 @@ def bake_vertex(*mesh_image_proxy, filter=_v("filter"), samples=_v("samples"),
     'clamp' | (r, g, b[, a]), linear, wrap 'clamp' | 'repeat' (plane only),
     cache_mb 1..16777216. Bad values raise ValueError with the CLI's message.
     Returns (colors (n, 4) float32 in the input's vertex order, stats dict:
-    counts, timings in seconds, warnings). The counts are the CLI's --report
+    counts, timings in seconds, warnings, notes: a photo or layers bake's
+    camera file reader's, e.g. a nerfstudio applied_transform undone). The counts are the CLI's --report
     "counts" for the same job, by the same names (vertices, triangles,
     degenerate_skipped, ..., occluded, filled, unfilled), the timings its
     stages' (scene_build, bake, fill) and the call's total; so are every
@@ -532,12 +533,15 @@ class CameraChecks(list):
     median_distance; None when the model has no sparse points),
     photo_agreement (dict: vertices, agreeing, median_deviation, gain_ratio,
     as a photo bake's stats; None when not measured), agreement_note (why
-    it was not measured, or '') and warnings (list of str)."""
+    it was not measured, or ''), warnings (list of str) and notes (list of
+    str: what the camera file's reader did, as the CLI prints, e.g. a
+    nerfstudio applied_transform undone)."""
 
     alignment = None
     photo_agreement = None
     agreement_note = ""
     warnings = ()
+    notes = ()
 
 
 def check_cameras(*mesh, cameras, images=None, masks=None, photos=True, threads=0):
@@ -557,11 +561,11 @@ def check_cameras(*mesh, cameras, images=None, masks=None, photos=True, threads=
     images and masks as bake_vertex_from_photos. Errors: ValueError, OSError
     (the model, the masks folder or a mask file, the mesh)."""
     mesh = _mesh(mesh, 0, "check_cameras")[0]
-    checks, alignment, agreement, note, warnings = _texbake.check_cameras(
+    checks, alignment, agreement, note, warnings, notes = _texbake.check_cameras(
         mesh, cameras, images, masks, bool(photos), threads)
     out = CameraChecks(checks)
     out.alignment, out.photo_agreement = alignment, agreement
-    out.agreement_note, out.warnings = note, warnings
+    out.agreement_note, out.warnings, out.notes = note, warnings, notes
     return out
 
 
@@ -694,7 +698,9 @@ def run_job(mesh, output, progress=None, **options):
     """Runs one whole job as `texbake bake MESH -o OUTPUT ...` and a batch line do:
     reads the files, fits what is not given, bakes, writes the outputs
     atomically (and the report when `report` is given) and returns what it
-    did: a dict with "outputs" (the files written), "warnings", "fitted" (the
+    did: a dict with "outputs" (the files written), "warnings", "notes"
+    (what the command line prints as "texbake: ..." lines: the fit, a camera
+    file reader's notes, the model's alignment), "fitted" (the
     proxy's flags filled by the fit), "report" (the report as a dict),
     "summary" (the command line's last line) and "seconds".
 

@@ -362,7 +362,7 @@ TEST(PhotoMask, AMaskFileEqualsTheSameMaskInTheAlpha) {
   // Photo c's own alpha: 0.25 on rows 0..49, which the mask file multiplies.
   for (int j = 0; j < 50; ++j) {
     for (int i = 0; i < kW; ++i)
-      by_file.images[2].pixels[(std::size_t{j} * kW + i) * 4 + 3] = 0.25f;
+      by_file.images[2].pixels[(static_cast<std::size_t>(j) * kW + i) * 4 + 3] = 0.25f;
   }
   Shots by_alpha = by_file;
   by_file.photos[0].mask = dir / "a.png.png";
