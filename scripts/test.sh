@@ -61,13 +61,15 @@ release_stage() {
 }
 
 sanitize_stage() {
-  # -O1 -g without NDEBUG: assertions stay on; leaks are reported (LSan;
+  # -O1 without NDEBUG: assertions stay on; leaks are reported (LSan;
   # tests/lsan.supp lists the third-party ones).
-  # clang, for libFuzzer: the fuzz stage runs the fuzzers built here.
+  # clang, for libFuzzer: the fuzz stage runs the fuzzers built here. Line
+  # tables only (file and line in every report's stack) instead of full
+  # debug information: a quicker build and link.
   cmake -S "$TEXBAKE_ROOT" -B "$TEXBAKE_ASAN_BUILD" -DCMAKE_CXX_COMPILER=clang++ \
     -DTEXBAKE_SANITIZE=ON -DTEXBAKE_FUZZ=ON -DTEXBAKE_PYTHON=OFF \
     -DTEXBAKE_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g" >/dev/null
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" >/dev/null
   cmake --build "$TEXBAKE_ASAN_BUILD" --parallel "$texbake_jobs" \
     --target texbake test_mapping test_mesh_io test_cli test_bake texbake_fuzzers
   (cd "$TEXBAKE_ASAN_BUILD" &&
