@@ -225,7 +225,8 @@ def test_a_camera_files_notes_reach_every_result(tmp_path):
 
     mesh = texbake.read_mesh(bunny)
     colors, stats, _ = texbake.bake_vertex_from_photos(mesh, cameras=transforms)
-    model_colors, model_stats, _ = texbake.bake_vertex_from_photos(mesh, cameras=ws / "sparse" / "0")
+    model_colors, model_stats, _ = texbake.bake_vertex_from_photos(
+        mesh, cameras=ws / "sparse" / "0")
     assert np.abs(colors - model_colors).max() < 1e-4
     assert noted(stats["notes"]) and model_stats["notes"] == []
     atlas, _ = texbake.bake_atlas_from_photos(mesh, cameras=transforms, size=64)

@@ -355,9 +355,10 @@ def bake_vertex(*mesh_image_proxy, filter=_v("filter"), samples=_v("samples"),
     cache_mb 1..16777216. Bad values raise ValueError with the CLI's message.
     Returns (colors (n, 4) float32 in the input's vertex order, stats dict:
     counts, timings in seconds, warnings, notes: a photo or layers bake's
-    camera file reader's, e.g. a nerfstudio applied_transform undone). The counts are the CLI's --report
-    "counts" for the same job, by the same names (vertices, triangles,
-    degenerate_skipped, ..., occluded, filled, unfilled), the timings its
+    camera file reader's, e.g. a nerfstudio applied_transform undone). The
+    counts are the CLI's --report "counts" for the same job, by the same
+    names (vertices, triangles, degenerate_skipped, ..., occluded, filled,
+    unfilled), the timings its
     stages' (scene_build, bake, fill) and the call's total; so are every
     bake's, and an atlas's stats["atlas"] is the report's "atlas" object
     (uv, size, samples_per_texel, padding, counts, ...) less its timings.
