@@ -16,6 +16,7 @@
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
+#include "bake/vertex/vertex_filter.h"
 #include "bake/vertex/vertex_resolve.h"
 #include "bake/vertex/vertex_share.h"
 #include "mapping/derivatives.h"
@@ -96,6 +97,7 @@ struct Prepared {
 // target's vertices (point i is vertex i), or the atlas's supersamples.
 struct PointFrame {
   const MeshData* mesh = nullptr;
+  std::size_t first_vertex = 0;          // the vertex target: point i is vertex first_vertex + i
   const Adjacency* adjacency = nullptr;  // the vertex target (area, EWA)
   const uint32_t* triangles = nullptr;   // the atlas target: each point's triangle
   double cell = 0;                       // the atlas target under EWA (ewa_cell)
@@ -114,45 +116,27 @@ std::array<float, 3> straight_rgb(const Prepared& layer, const Rgba& s) {
 }
 
 // The layer's filtered lookup for point `point` at q (mapped to r, not
-// kUndefined): nullopt when the area filter found no mapped sample.
+// kUndefined, and not outside unless the layer clamps): nullopt when the
+// area filter found no mapped sample. The vertex target is the shared
+// vertex filter (bake/vertex/vertex_filter.h; the rule's outside constant is
+// the layer's outside lookup, so the area filter's outside samples follow
+// the layer's `outside`); an atlas supersample is one lookup, under EWA with
+// the footprint of its cell.
 template <class Map, class Jacobian>
 std::optional<Rgba> filtered(const Prepared& layer, const Map& map, const Jacobian& jacobian,
                              const PointFrame& frame, std::size_t point, const Vec3& q,
                              const MapResult& r, VertexShare& share) {
   const LayerInput& in = *layer.input;
-  if (in.filter == VertexFilter::kEwa) {
-    Vec3 t1, t2;
-    if (frame.adjacency) {
-      vertex_share(*frame.mesh, *frame.adjacency, static_cast<uint32_t>(point), share);
-      isotropic_tangents(share.normal, share.total / 3, t1, t2);
-    } else if (frame.triangles && frame.cell > 0) {
-      cell_tangents(*frame.mesh, frame.triangles[point], frame.cell, t1, t2);
-    }
-    return layer.rule.lookup(r.uv, uv_footprint(jacobian(q), t1, t2));
+  if (frame.adjacency) {
+    FilterCounts counts;
+    return filter_vertex(layer.rule, in.filter, in.samples, map, jacobian, *frame.mesh,
+                         frame.adjacency, static_cast<uint32_t>(frame.first_vertex + point), r,
+                         share, counts);
   }
-  if (in.filter == VertexFilter::kArea && frame.adjacency) {
-    vertex_share(*frame.mesh, *frame.adjacency, static_cast<uint32_t>(point), share);
-    if (share.total > 0) {
-      // The single-proxy bake's mean (bake/vertex/bake_vertex.cpp): double
-      // sums, one division.
-      double sum[4] = {0, 0, 0, 0};
-      int count = 0;
-      for_share_points(
-          *frame.mesh, *frame.adjacency, static_cast<uint32_t>(point), share, in.samples,
-          [&](const Vec3& p) {
-            const MapResult m = map(p);
-            if (m.status == MapStatus::kUndefined) return;
-            const bool outside = m.status == MapStatus::kOutside && layer.rule.has_outside &&
-                                 in.outside != LayerOutside::kClamp;
-            const Rgba c = outside ? layer.outside_sample : layer.rule.lookup(m.uv, {});
-            for (int k = 0; k < 4; ++k) sum[k] += c[k];
-            ++count;
-          });
-      if (count == 0) return std::nullopt;
-      const double inv = 1.0 / count;
-      return Rgba{static_cast<float>(sum[0] * inv), static_cast<float>(sum[1] * inv),
-                  static_cast<float>(sum[2] * inv), static_cast<float>(sum[3] * inv)};
-    }
+  if (in.filter == VertexFilter::kEwa && frame.triangles && frame.cell > 0) {
+    Vec3 t1, t2;
+    cell_tangents(*frame.mesh, frame.triangles[point], frame.cell, t1, t2);
+    return layer.rule.lookup(r.uv, uv_footprint(jacobian(q), t1, t2));
   }
   return layer.rule.lookup(r.uv, {});
 }
@@ -254,13 +238,13 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
 }
 
 // A "cameras" layer's contributions for the points [begin, end): the
-// photo blend of point ids[i] (atlas samples) or i (vertices).
-void photo_block(const Prepared& layer, const uint32_t* ids, std::size_t begin, std::size_t end,
-                 Contribution* out, LayerCounts& counts) {
+// photo blend of point ids[i] (atlas samples) or of vertex first_vertex + i.
+void photo_block(const Prepared& layer, const uint32_t* ids, std::size_t first_vertex,
+                 std::size_t begin, std::size_t end, Contribution* out, LayerCounts& counts) {
   const LayerInput& in = *layer.input;
   const PhotoPoints& points = ids ? in.photos->samples : in.photos->vertices;
   for (std::size_t i = begin; i < end; ++i) {
-    const std::size_t id = ids ? ids[i] : i;
+    const std::size_t id = ids ? ids[i] : first_vertex + i;
     Contribution& c = out[i];
     c = {};
     const uint8_t state = points.state[id];
@@ -282,7 +266,7 @@ void contributions(const Prepared& layer, const PointFrame& frame, const Vec3* p
                    std::size_t end, Contribution* out, LayerCounts& counts,
                    const uint32_t* sample_ids = nullptr) {
   if (layer.input->photos) {
-    photo_block(layer, sample_ids, begin, end, out, counts);
+    photo_block(layer, sample_ids, frame.first_vertex, begin, end, out, counts);
   } else if (layer.camera) {
     const CameraProjector& cam = *layer.camera;
     // No EWA through a camera (prepare refuses it): no Jacobian needed.
@@ -378,6 +362,10 @@ Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
     const Rgba c = layer.rule.working(in.outside_color);
     layer.outside_sample = in.linear ? Rgba{c[0] * c[3], c[1] * c[3], c[2] * c[3], c[3]} : c;
   }
+  // The area filter's outside samples (ShadeRule::project): the outside
+  // lookup (transparent: 0) unless the layer clamps.
+  layer.rule.outside_constant = in.outside != LayerOutside::kClamp;
+  layer.rule.outside_color = layer.outside_sample;
   return prepared;
 }
 
@@ -410,6 +398,54 @@ Vec3 vec(Float3 f) {
   return {f.x, f.y, f.z};
 }
 
+// A layer that traces visibility rays (a "cameras" layer's photo bake has
+// its own scene).
+bool needs_scene(const LayerInput& l) {
+  return !l.photos && l.visibility == LayerVisibility::kFirst;
+}
+
+// A layer that reads the points' smooth normals: a camera's facing test,
+// an angle fade ("cameras" layers carry their own cosine).
+bool needs_normals(const LayerInput& l) {
+  return !l.photos && (l.angle_fade || std::holds_alternative<CameraProjector>(l.projector));
+}
+
+// The layers' stats from per-block counts (block-major: counts[block *
+// layers + l]), summed in block order: mean alpha over `points`; seconds,
+// each layer's `own` seconds plus its share of the pass's wall time
+// `pass_seconds` by the threads' time in it.
+std::vector<LayerStats> layer_stats(const std::vector<LayerInput>& layers,
+                                    const std::vector<LayerCounts>& counts, std::size_t points,
+                                    const std::vector<double>& own, double pass_seconds) {
+  const std::size_t layer_count = layers.size();
+  const std::size_t blocks = layer_count ? counts.size() / layer_count : 0;
+  std::vector<double> thread_seconds(layer_count, 0.0);
+  double thread_total = 0;
+  std::vector<LayerStats> out;
+  for (std::size_t l = 0; l < layer_count; ++l) {
+    LayerStats stats;
+    stats.name = layers[l].name;
+    stats.photos = layers[l].photos != nullptr;
+    double alpha_sum = 0;
+    for (std::size_t block = 0; block < blocks; ++block) {
+      const LayerCounts& c = counts[block * layer_count + l];
+      stats.in_domain += c.in_domain;
+      stats.visible += c.visible;
+      stats.blended += c.blended;
+      alpha_sum += c.alpha_sum;
+      thread_seconds[l] += c.seconds;
+    }
+    thread_total += thread_seconds[l];
+    stats.mean_alpha = points ? alpha_sum / static_cast<double>(points) : 0;
+    out.push_back(std::move(stats));
+  }
+  for (std::size_t l = 0; l < layer_count; ++l) {
+    out[l].seconds =
+        own[l] + (thread_total > 0 ? pass_seconds * thread_seconds[l] / thread_total : 0);
+  }
+  return out;
+}
+
 }  // namespace
 
 Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
@@ -422,23 +458,35 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   }
   LayersBakeResult result;
   auto start = Clock::now();
-  const bool needs_scene = std::any_of(layers.begin(), layers.end(), [](const LayerInput& l) {
-    return !l.photos && l.visibility == LayerVisibility::kFirst;
-  });
   std::optional<EmbreeScene> scene;
   double offset = 0;
-  if (needs_scene) {
+  if (std::any_of(layers.begin(), layers.end(), needs_scene)) {
     Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
     if (!built) return built.error();
     scene.emplace(std::move(built).value());
     offset = visibility_offset(*scene);
   }
-  const std::vector<Float3> normals = smooth_vertex_normals(mesh);
+  // The smooth normals, where a layer reads them (a camera's facing test,
+  // an angle fade); otherwise every point's normal is zero (cosine 1).
+  const bool with_normals = std::any_of(layers.begin(), layers.end(), needs_normals);
+  std::vector<Float3> normals;
+  if (with_normals) normals = smooth_vertex_normals(mesh);
   result.seconds_scene = seconds_since(start);
 
-  // The base: straight colour (the stack's working space) and coverage.
+  // The layers ready, all at once: every block of vertices goes through
+  // every layer, so no per-vertex array beyond the colours is held.
   start = Clock::now();
   const bool linear = stack_linear(layers);
+  std::vector<std::unique_ptr<Prepared>> prepared;
+  std::vector<double> prepare_seconds;
+  for (const LayerInput& in : layers) {
+    const auto layer_start = Clock::now();
+    Expected<std::unique_ptr<Prepared>> p = prepare(in, linear, n);
+    if (!p) return p.error();
+    prepared.push_back(std::move(p).value());
+    prepare_seconds.push_back(seconds_since(layer_start));
+  }
+  // The base: straight colour (the stack's working space) and coverage.
   std::vector<Rgba> colour(n, Rgba{0, 0, 0, 0});
   if (options.base == LayerBase::kColor) {
     std::fill(colour.begin(), colour.end(), to_work(options.base_color, linear));
@@ -459,43 +507,34 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
     adjacency = build_adjacency(mesh);
     frame.adjacency = &adjacency;
   }
-
-  std::vector<Vec3> points(n), point_normals(n);
-  for (std::size_t v = 0; v < n; ++v) {
-    points[v] = vec(mesh.positions[v]);
-    point_normals[v] = vec(normals[v]);
-  }
-  std::vector<Contribution> contribution(n);
-  for (const LayerInput& in : layers) {
-    const auto layer_start = Clock::now();
-    Expected<std::unique_ptr<Prepared>> prepared = prepare(in, linear, n);
-    if (!prepared) return prepared.error();
-    const Prepared& layer = **prepared;
-    std::vector<LayerCounts> block_counts(block_count(n, kGrain));
-    parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
-      contributions(layer, frame, points.data(), point_normals.data(), scene ? &*scene : nullptr,
-                    offset, begin, end, contribution.data(), block_counts[block]);
-    });
-    LayerStats stats;
-    stats.name = in.name;
-    stats.photos = in.photos != nullptr;
-    double alpha_sum = 0;
-    for (const LayerCounts& c : block_counts) {
-      stats.in_domain += c.in_domain;
-      stats.visible += c.visible;
-      stats.blended += c.blended;
-      alpha_sum += c.alpha_sum;
+  const std::size_t layer_count = layers.size();
+  // Per block and layer, so that the sums are taken in block order.
+  std::vector<LayerCounts> counts(block_count(n, kGrain) * layer_count);
+  const double pass_start = seconds_since(start);
+  parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    const std::size_t m = end - begin;
+    std::vector<Vec3> points(m), point_normals(m);
+    std::vector<Contribution> contribution(m);
+    for (std::size_t i = 0; i < m; ++i) {
+      points[i] = vec(mesh.positions[begin + i]);
+      if (with_normals) point_normals[i] = vec(normals[begin + i]);
     }
-    stats.mean_alpha = n ? alpha_sum / static_cast<double>(n) : 0;
-
-    // Composite (straight colour B, coverage alpha), in linear light.
-    parallel_for_chunks(n, kGrain, [&](std::size_t begin, std::size_t end) {
-      for (std::size_t v = begin; v < end; ++v) composite(in.mode, contribution[v], colour[v]);
-    });
-    stats.seconds = seconds_since(layer_start);
-    result.layers.push_back(stats);
-  }
+    PointFrame block_frame = frame;
+    block_frame.first_vertex = begin;
+    for (std::size_t l = 0; l < layer_count; ++l) {
+      const auto layer_start = Clock::now();
+      LayerCounts& c = counts[block * layer_count + l];
+      contributions(*prepared[l], block_frame, points.data(), point_normals.data(),
+                    scene ? &*scene : nullptr, offset, 0, m, contribution.data(), c);
+      // Composite (straight colour B, coverage alpha) in the stack's working space.
+      const LayerMode mode = layers[l].mode;
+      for (std::size_t i = 0; i < m; ++i) composite(mode, contribution[i], colour[begin + i]);
+      c.seconds += seconds_since(layer_start);
+    }
+  });
   result.seconds_layers = seconds_since(start);
+  result.layers =
+      layer_stats(layers, counts, n, prepare_seconds, result.seconds_layers - pass_start);
 
   // Uncovered vertices: the fill over their RGB (alpha stays 0), or a constant.
   start = Clock::now();
@@ -603,12 +642,9 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   result.seconds_fill = seconds_since(start);
 
   start = Clock::now();
-  const bool needs_scene = std::any_of(layers.begin(), layers.end(), [](const LayerInput& l) {
-    return !l.photos && l.visibility == LayerVisibility::kFirst;
-  });
   std::optional<EmbreeScene> scene;
   double offset = 0;
-  if (needs_scene) {
+  if (std::any_of(layers.begin(), layers.end(), needs_scene)) {
     Expected<EmbreeScene> built = EmbreeScene::build(uv_mesh, BuildQuality::kLow);
     if (!built) return built.error();
     scene.emplace(std::move(built).value());
@@ -770,33 +806,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
     if (!band_opaque[band]) result.opaque = false;
   }
   result.seconds_layers = seconds_since(start);
-  // Each layer's share of the stage's wall time, by the threads' time in it.
-  std::vector<double> thread_seconds(layers.size(), 0.0);
-  for (std::size_t l = 0; l < layers.size(); ++l) {
-    for (std::size_t band = 0; band < band_count; ++band) {
-      thread_seconds[l] += counts[band * layers.size() + l].seconds;
-    }
-  }
-  double thread_total = 0;
-  for (double t : thread_seconds) thread_total += t;
-  for (std::size_t l = 0; l < layers.size(); ++l) {
-    LayerStats stats;
-    stats.name = layers[l].name;
-    stats.photos = layers[l].photos != nullptr;
-    double alpha_sum = 0;
-    for (std::size_t band = 0; band < band_count; ++band) {
-      const LayerCounts& c = counts[band * layers.size() + l];
-      stats.in_domain += c.in_domain;
-      stats.visible += c.visible;
-      stats.blended += c.blended;
-      alpha_sum += c.alpha_sum;
-    }
-    stats.mean_alpha = result.samples ? alpha_sum / static_cast<double>(result.samples) : 0;
-    stats.seconds =
-        fill_seconds[l] +
-        (thread_total > 0 ? result.seconds_layers * thread_seconds[l] / thread_total : 0);
-    result.layers.push_back(stats);
-  }
+  result.layers = layer_stats(layers, counts, result.samples, fill_seconds, result.seconds_layers);
 
   start = Clock::now();
   result.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);

@@ -7,13 +7,13 @@
 #include <optional>
 #include <variant>
 
-#include "bake/shade/footprint.h"
 #include "bake/shade/shade.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
 #include "bake/vertex/occlusion_fill.h"
+#include "bake/vertex/vertex_filter.h"
 #include "bake/vertex/vertex_share.h"
 #include "mapping/derivatives.h"
 #include "mapping/mipmap.h"
@@ -61,74 +61,18 @@ struct BakeContext {
   const std::vector<uint32_t>* order = nullptr;
 };
 
-// Per-chunk counters, added to the totals once per chunk (integer sums, so
-// the totals do not depend on the order).
-struct ChunkCounts {
-  std::size_t samples = 0, outside = 0;
-};
-
-struct Accumulator {
-  double sum[4] = {0, 0, 0, 0};
-  int count = 0;
-  void add(const Rgba& c) {
-    for (int k = 0; k < 4; ++k) sum[k] += c[k];
-    ++count;
-  }
-  Rgba mean() const {
-    const double inv = 1.0 / count;
-    return {static_cast<float>(sum[0] * inv), static_cast<float>(sum[1] * inv),
-            static_cast<float>(sum[2] * inv), static_cast<float>(sum[3] * inv)};
-  }
-};
-
-// One mapped sample into the accumulator (the shading rule, bake/shade/shade.h):
-// samples without a mapping are left out.
-void accumulate(const BakeContext& ctx, const MapResult& m, Accumulator& acc, ChunkCounts& counts,
-                const UvFootprint& footprint = {}) {
-  ++counts.samples;
-  const Shaded s = ctx.shade.project(m, footprint);
-  if (s.kind == Shade::kNone) return;
-  if (s.kind == Shade::kOutside) ++counts.outside;
-  acc.add(s.color);
-}
-
 // The projected colour of vertex v (no visibility), or nullopt if no sample
-// has a mapping. vertex_map is proxy.inverse_map(position of v).
+// has a mapping: the shared vertex filter (bake/vertex/vertex_filter.h).
+// vertex_map is proxy.inverse_map(position of v).
 template <class P>
 std::optional<Rgba> vertex_color(const P& proxy, const BakeContext& ctx, uint32_t v,
                                  const MapResult& vertex_map, VertexShare& share,
-                                 ChunkCounts& counts) {
-  const MeshData& mesh = *ctx.mesh;
-  Accumulator acc;
-  if (ctx.adjacency) {
-    vertex_share(mesh, *ctx.adjacency, v, share);
-  } else {
-    share.count = 0;
-    share.total = 0;
-    share.normal = Vec3{};
-  }
-  if (ctx.options->filter == VertexFilter::kEwa) {
-    // One EWA lookup at the vertex. Its footprint on the surface: the
-    // vertex's share of its triangles (a third of each, total / 3) as a
-    // square of that area in the plane of the area-weighted normal, i.e. two
-    // perpendicular tangents of length sqrt(total / 3); in (u, v) through
-    // the Jacobian at the vertex. A vertex without triangles: bilinear.
-    Vec3 t1, t2;
-    isotropic_tangents(share.normal, share.total / 3, t1, t2);
-    accumulate(ctx, vertex_map, acc, counts,
-               uv_footprint(inverse_map_jacobian(proxy, to_vec(mesh.positions[v])), t1, t2));
-    if (acc.count == 0) return std::nullopt;
-    return acc.mean();
-  }
-  if (!(share.total > 0)) {  // bilinear filter, or a vertex in no (non-degenerate) triangle
-    accumulate(ctx, vertex_map, acc, counts);
-    if (acc.count == 0) return std::nullopt;
-    return acc.mean();
-  }
-  for_share_points(mesh, *ctx.adjacency, v, share, ctx.options->samples,
-                   [&](const Vec3& p) { accumulate(ctx, proxy.inverse_map(p), acc, counts); });
-  if (acc.count == 0) return std::nullopt;
-  return acc.mean();
+                                 FilterCounts& counts) {
+  return filter_vertex(
+      ctx.shade, ctx.options->filter, ctx.options->samples,
+      [&proxy](const Vec3& p) { return proxy.inverse_map(p); },
+      [&proxy](const Vec3& p) { return inverse_map_jacobian(proxy, p); }, *ctx.mesh, ctx.adjacency,
+      v, vertex_map, share, counts);
 }
 
 // Per-chunk scratch, allocated once per chunk (never per sample).
@@ -142,7 +86,7 @@ struct ChunkScratch {
 
 template <class P>
 void bake_chunk(const P& proxy, const BakeContext& ctx, std::size_t begin, std::size_t end,
-                std::vector<Rgba>& colors, std::vector<uint8_t>& state, ChunkCounts& counts) {
+                std::vector<Rgba>& colors, std::vector<uint8_t>& state, FilterCounts& counts) {
   const MeshData& mesh = *ctx.mesh;
   ChunkScratch scratch;
   scratch.maps.resize(end - begin);
@@ -304,7 +248,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   if (progress) progress->start("bake", n);
   parallel_for_chunks(n, kVertexGrain, [&](std::size_t begin, std::size_t end) {
     if (is_cancelled(progress)) return;
-    ChunkCounts counts;
+    FilterCounts counts;
     std::visit([&](const auto& p) { bake_chunk(p, ctx, begin, end, result.colors, state, counts); },
                proxy);
     samples += counts.samples;
@@ -327,7 +271,7 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
     unknown[v] = state[v] == kUndefined ||
                  (state[v] == kOccluded && options.occluded != OccludedMode::kProject);
   }
-  ChunkCounts fallback_counts;
+  FilterCounts fallback_counts;
   std::optional<Rgba> mean;
   VertexShare share;
   VertexResolve how;

@@ -13,6 +13,7 @@
 
 #include "bake/atlas/bake_atlas.h"
 #include "bake/layers/layers_bake.h"
+#include "bake/util/parallel.h"
 #include "bake/vertex/bake_vertex.h"
 #include "tests/bake/test_meshes.h"
 
@@ -215,6 +216,91 @@ TEST(LayersEngine, EwaThroughACameraIsRefused) {
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().code, ErrorCode::kInvalidArgument);
   EXPECT_NE(r.error().message.find("photo.png: EWA"), std::string::npos) << r.error().message;
+}
+
+TEST(LayersEngine, StackIsIdenticalWithOneAndTwoThreads) {
+  // A stack that takes every per-point path: a sphere under the area filter
+  // with visibility rays (the grid and box shadow the sphere's top), a
+  // camera with an angle fade (its segments, the smooth normals) and a
+  // plane in multiply mode under EWA, over several blocks of vertices and
+  // bands of atlas samples; then the uncovered vertices' fill. Colours,
+  // counts and mean alphas are the same bits at one and two threads.
+  MeshData mesh = test::uv_sphere({0, 0, 0}, 1.0, 80, 160);
+  test::append_grid(mesh, 40, 40, [](double s, double t) {
+    return Float3{static_cast<float>(0.4 * s - 0.2), static_cast<float>(0.4 * t - 0.2), 1.2f};
+  });
+  test::append_box(mesh, {-0.1f, -0.1f, 1.3f}, {0.1f, 0.1f, 1.4f});
+  test::faces_from_triangles(mesh);
+  ASSERT_GT(mesh.positions.size(), 3u * 4096);  // several of the engine's blocks
+  const std::vector<float> px = detailed_image(64, 32);
+  const ImageView image{64, 32, px.data(), ColorSpace::kSrgb};
+  Expected<Proxy> sphere = make_proxy(SphereParams{{0, 0, 0}, 3, {0, 0, 1}, Vec3{1, 0, 0}});
+  Expected<Proxy> plane = make_proxy(PlaneParams{{0, -1, 0}, {1, 0, 0}, {0, 2, 0}});  // x >= 0
+  Expected<CameraPose> pose = pose_from_look_at({0, -3, 1}, {0, 0, 0}, {0, 0, 1}, "pose");
+  ASSERT_TRUE(sphere && plane && pose);
+  Expected<CameraProjector> camera =
+      CameraProjector::make({CameraModel::kPinhole, 64, 32, {40, 40, 32, 16}, *pose});
+  ASSERT_TRUE(camera) << camera.error().message;
+  std::vector<LayerInput> stack(3);
+  stack[0] = proxy_layer(image, *sphere, VertexFilter::kArea, 4);
+  stack[0].visibility = LayerVisibility::kFirst;
+  stack[0].linear = true;
+  stack[1].name = "camera";
+  stack[1].projector = *camera;
+  stack[1].texture = image;
+  stack[1].angle_fade = std::array<double, 2>{30, 70};
+  stack[2] = proxy_layer(image, *plane, VertexFilter::kEwa);
+  stack[2].linear = true;
+  stack[2].mode = LayerMode::kMultiply;
+  stack[2].outside = LayerOutside::kTransparent;
+
+  struct Run {
+    std::vector<Rgba> colors;
+    std::vector<float> atlas;
+    std::vector<LayerStats> vertex_stats, atlas_stats;
+    std::size_t uncovered = 0;
+  };
+  const MeshData uv_mesh = [&] {
+    std::vector<Float2> uvs;
+    for (const Float3& p : mesh.positions) uvs.push_back({0.5f + 0.4f * p.x, 0.5f + 0.4f * p.y});
+    return mesh_with_triangle_uvs(mesh, uvs, mesh.triangles);
+  }();
+  const auto run = [&](int threads) {
+    ThreadLimit limit(threads);
+    Run out;
+    Expected<LayersBakeResult> v = bake_vertex_layers(mesh, stack, LayersBakeOptions{});
+    EXPECT_TRUE(v) << v.error().message;
+    out.colors = v->colors;
+    out.vertex_stats = v->layers;
+    out.uncovered = v->uncovered;
+    LayersAtlasOptions ao;
+    ao.size = 96;
+    ao.samples = 4;
+    Expected<LayersAtlasResult> a = bake_atlas_layers(uv_mesh, stack, ao);
+    EXPECT_TRUE(a) << a.error().message;
+    out.atlas = a->atlas.pixels;
+    out.atlas_stats = a->layers;
+    return out;
+  };
+  const Run one = run(1), two = run(2);
+  EXPECT_EQ(one.colors, two.colors);
+  EXPECT_EQ(one.atlas, two.atlas);
+  EXPECT_EQ(one.uncovered, two.uncovered);
+  EXPECT_GT(one.uncovered, 0u);  // the fill ran
+  for (const auto* stats : {&one.vertex_stats, &one.atlas_stats}) {
+    const auto& other = stats == &one.vertex_stats ? two.vertex_stats : two.atlas_stats;
+    ASSERT_EQ(stats->size(), 3u);
+    ASSERT_EQ(other.size(), 3u);
+    for (std::size_t l = 0; l < 3; ++l) {
+      EXPECT_EQ((*stats)[l].in_domain, other[l].in_domain) << l;
+      EXPECT_EQ((*stats)[l].visible, other[l].visible) << l;
+      EXPECT_EQ((*stats)[l].blended, other[l].blended) << l;
+      EXPECT_EQ((*stats)[l].mean_alpha, other[l].mean_alpha) << l;
+      EXPECT_GT((*stats)[l].blended, 0u) << l;  // every layer reaches some point
+    }
+    // The sphere's rays are blocked under the grid: seen < mapped.
+    EXPECT_LT((*stats)[0].visible, (*stats)[0].in_domain);
+  }
 }
 
 }  // namespace
