@@ -38,6 +38,10 @@ class ForkJoin {
   ForkJoin(const ForkJoin&) = delete;
   ForkJoin& operator=(const ForkJoin&) = delete;
 
+  // The fork again, for an object that hands over more than once (a
+  // background task run again after its wait()).
+  void fork() { release(&fork_); }
+
   void begin_body() { acquire(&fork_); }
   void end_body() { release(&join_); }
   // The join: every body that called end_body() happens before what the
