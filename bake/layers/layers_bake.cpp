@@ -450,7 +450,8 @@ std::vector<LayerStats> layer_stats(const std::vector<LayerInput>& layers,
 
 Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
                                               const std::vector<LayerInput>& layers,
-                                              const LayersBakeOptions& options) {
+                                              const LayersBakeOptions& options,
+                                              Progress* progress) {
   if (layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
   const std::size_t n = mesh.positions.size();
   if (options.base == LayerBase::kMesh && mesh.vertex_colors.size() != n) {
@@ -511,7 +512,9 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   // Per block and layer, so that the sums are taken in block order.
   std::vector<LayerCounts> counts(block_count(n, kGrain) * layer_count);
   const double pass_start = seconds_since(start);
+  if (progress) progress->start("bake", n);
   parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    if (is_cancelled(progress)) return;
     const std::size_t m = end - begin;
     std::vector<Vec3> points(m), point_normals(m);
     std::vector<Contribution> contribution(m);
@@ -531,7 +534,10 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
       for (std::size_t i = 0; i < m; ++i) composite(mode, contribution[i], colour[begin + i]);
       c.seconds += seconds_since(layer_start);
     }
+    if (progress) progress->advance(m);
   });
+  if (is_cancelled(progress)) return cancelled_error();
+  if (progress) progress->finish();
   result.seconds_layers = seconds_since(start);
   result.layers =
       layer_stats(layers, counts, n, prepare_seconds, result.seconds_layers - pass_start);
@@ -547,8 +553,11 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   how.constant = how.fill ? Rgba{0, 0, 0, 0} : options.occluded_color;
   how.coverage = true;
   how.linear = linear;
+  if (progress) progress->start("fill", 1);
   Expected<FillResult> fill = resolve_vertices(mesh, colour, unknown, std::move(how));
   if (!fill) return fill.error();
+  if (progress) progress->finish();
+  if (is_cancelled(progress)) return cancelled_error();
   result.filled = fill->filled;
   result.colors = std::move(colour);
   result.seconds_fill = seconds_since(start);

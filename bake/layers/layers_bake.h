@@ -160,10 +160,15 @@ struct LayersBakeResult {
 };
 
 // Errors: kInvalidArgument (no layers; base "mesh" on a mesh without vertex
-// colours; an empty texture), kInternal (Embree, the fill).
+// colours; an empty texture), kInternal (Embree, the fill), kCancelled
+// (progress's callback returned false: the remaining blocks and the fill
+// are skipped). progress may be null; it hears the stages "bake" (the
+// blocks of vertices through every layer) and "fill", as the proxy vertex
+// bake's.
 Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
                                               const std::vector<LayerInput>& layers,
-                                              const LayersBakeOptions& options);
+                                              const LayersBakeOptions& options,
+                                              Progress* progress = nullptr);
 
 // ---- The atlas target -------------------------------------------------------
 //

@@ -231,10 +231,11 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
         !s) {
       return s.error();
     }
-    Expected<LayersBakeResult> baked = bake_vertex_layers(mesh, *inputs, options);
+    progress.finish();  // "layers": the textures read, the photos blended
+    if (progress.cancelled()) return cancelled_error();
+    Expected<LayersBakeResult> baked = bake_vertex_layers(mesh, *inputs, options, &progress);
     if (!baked) return detail::as_input(baked.error());
     if (Status s = check_texels_read(images); !s) return s.error();
-    progress.finish();
     out.colors = std::move(baked->colors);
     out.layers = std::move(baked->layers);
     for (std::size_t i = 0; i < out.layers.size(); ++i) {

@@ -503,7 +503,9 @@ struct LayerColors {
 // kInput (an image unreadable; base "mesh" on a mesh without vertex
 // colours; a camera model, list or photo unreadable or of the wrong size,
 // prefixed "layers[i]: "), kUsage (a COLMAP model outside a workspace and
-// no "images"), kInternal. Progress stage: "layers" (per layer read).
+// no "images"), kInternal, kCancelled. Progress stages: "layers" (per
+// layer read, a "cameras" layer's photos blended), "bake" (per vertex,
+// through every layer), "fill".
 Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const LayersSpec& spec,
                                                      const LayersBakeOptions& options = {},
                                                      const RunOptions& run = {});

@@ -152,6 +152,51 @@ TEST(ApiCancel, FalseAtHalfOfTheBakeCancelsTheVertexBake) {
   }
 }
 
+// The bunny's layers: the Earth through its sphere, one layer.
+LayersSpec bunny_layers() {
+  LayersSpec spec;
+  LayerSpec layer;
+  layer.projector = test::bunny_earth()->proxy;
+  layer.texture = test::shared_data("earth.jpg");
+  spec.layers.push_back(layer);
+  return spec;
+}
+
+TEST(ApiProgress, LayersVertexBakeReportsLayersBakeThenFill) {
+  ASSERT_TRUE(test::bunny_earth());
+  Recorder rec;
+  Expected<LayerColors> baked =
+      bake_vertex_colors_from_layers(test::bunny_earth()->mesh, bunny_layers(), {}, rec.run());
+  ASSERT_TRUE(baked) << baked.error().message;
+  expect_well_formed(rec, {"layers", "bake", "fill"});
+  // The bunny's 37706 vertices in blocks of 4096: reports in between.
+  EXPECT_GT(rec.by_stage().at("bake").size(), 5u);
+  // In order: the layers read, then every "bake" call, then the fill.
+  std::size_t last_layers = 0, first_bake = rec.calls.size(), last_bake = 0,
+              first_fill = rec.calls.size();
+  for (std::size_t i = 0; i < rec.calls.size(); ++i) {
+    const std::string& stage = rec.calls[i].first;
+    if (stage == "layers") last_layers = i;
+    if (stage == "bake") first_bake = std::min(first_bake, i), last_bake = i;
+    if (stage == "fill") first_fill = std::min(first_fill, i);
+  }
+  EXPECT_LT(last_layers, first_bake);
+  EXPECT_LT(last_bake, first_fill);
+}
+
+TEST(ApiCancel, FalseAtHalfOfTheBakeCancelsTheLayersVertexBake) {
+  ASSERT_TRUE(test::bunny_earth());
+  for (int threads : {1, 2}) {
+    Recorder rec{"bake", 0.5};
+    Expected<LayerColors> baked = bake_vertex_colors_from_layers(
+        test::bunny_earth()->mesh, bunny_layers(), {}, rec.run(threads));
+    ASSERT_FALSE(baked) << threads << " threads: the layers bake was not cancelled";
+    expect_cancelled(baked.error(), rec);
+    EXPECT_EQ(rec.by_stage().count("fill"), 0u) << "the fill must not run after a cancel";
+    EXPECT_LT(rec.calls.back().second, 1.0);
+  }
+}
+
 TEST(ApiCancel, FalseAtHalfOfTheSamplesCancelsTheAtlasBake) {
   const test::BunnyEarth* be = test::bunny_earth();
   ASSERT_TRUE(be);
