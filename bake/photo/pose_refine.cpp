@@ -815,7 +815,8 @@ bool Refiner::joint_step(int level, double& lambda) {
       continue;
     }
     // Accepted. Converged when no photo moved by more than about a
-    // thousandth of a pixel.
+    // thousandth of a texel of this level (2^level photo pixels).
+    const double tolerance = std::ldexp(1e-3, level);
     double largest = 0;
     for (std::size_t c = 0; c < cams_; ++c) {
       const double turned = rotation_angle(trial[c].r * state_[c].r.transpose());
@@ -823,12 +824,12 @@ bool Refiner::joint_step(int level, double& lambda) {
       const double f = (trial[c].fx + trial[c].fy) / 2;
       const double pixels = f * std::max(turned, moved);
       largest = std::max(largest, pixels);
-      if (pixels > 1e-3) ++iterations_[c];
+      if (pixels > tolerance) ++iterations_[c];
       clamped_[c] |= clamped[c];
     }
     state_ = std::move(trial);
     lambda = std::max(lambda / 3, 1e-7);
-    return largest > 1e-3;
+    return largest > tolerance;
   }
   return false;
 }

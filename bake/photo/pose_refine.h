@@ -59,7 +59,7 @@ struct PoseRefineOptions {
   bool intrinsics = false;         // also refine focal length(s) and principal point
   double max_rotation_deg = 2;     // the most a photo's rotation may change (degrees, > 0)
   double max_translation = 0.05;   // the most its centre may move, times the mesh's size (> 0)
-  int iterations = 50;             // the most Gauss-Newton steps per pyramid level (1 .. 1000)
+  int iterations = 200;            // the most Gauss-Newton steps per pyramid level (1 .. 1000)
   std::size_t max_points = 30000;  // surface sample points (the vertices, subsampled evenly)
   // How the photos' colour space is taken (--texture-colorspace), for the
   // API's reader (texbake/texbake.h refine_cameras).

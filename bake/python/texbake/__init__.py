@@ -571,7 +571,7 @@ def check_cameras(*mesh, cameras, images=None, masks=None, photos=True, threads=
 
 
 def refine_cameras(*mesh, cameras, images=None, masks=None, intrinsics=False, max_rotation=2.0,
-                   max_translation=0.05, iterations=50, colorspace="auto", strict_photos=False,
+                   max_translation=0.05, iterations=200, colorspace="auto", strict_photos=False,
                    threads=0, progress=None):
     """refine_cameras(mesh, cameras=PATH, ...) or (vertices, faces, cameras=PATH, ...):
     `texbake cameras refine`: every photo's pose (with intrinsics=True also its
