@@ -2,7 +2,7 @@
 """Chart count, UV area used and L2 stretch of an OBJ's texture layout,
 computed here with numpy (independently of texbake's own figures), so that
 the layouts of texbake and of other tools (xatlas, Blender) are measured
-alike. Used by hand for bench/RESULTS.md's "UV layout against xatlas".
+alike. Used by bench/uv/xatlas.sh for bench/RESULTS.md's "UV layout against xatlas".
 
     bench/uv_quality.py MESH.obj [...]
 
