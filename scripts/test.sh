@@ -10,7 +10,8 @@
 #      (the CLI tests run it) and the libFuzzer targets, and the fast part of
 #      the suite;
 #   4. tsan: ThreadSanitizer build into build-tsan/ (gcc, -O1) of test_mapping,
-#      test_mesh_io and test_bake, and their tests that compare thread counts;
+#      test_mesh_io and test_bake_threads (test_bake's files that hold a
+#      thread-count test), and their tests that compare thread counts;
 #   5. fuzz: a short run of each libFuzzer target of build-asan/
 #      (TEXBAKE_FUZZ_SECONDS, default 25 s) from its seed corpus and saved
 #      regressions (scripts/fuzz.sh's runner; that script alone builds the
