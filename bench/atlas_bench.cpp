@@ -28,10 +28,10 @@
 #include <map>
 #include <string>
 
-#include "bake/atlas/bake_atlas.h"
 #include "bake/atlas/dilate.h"
+#include "bake/engine/bake_atlas.h"
+#include "bake/engine/bake_vertex.h"
 #include "bake/uv/uv_generate.h"
-#include "bake/vertex/bake_vertex.h"
 #include "bench/bench_meshes.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/read_mesh.h"

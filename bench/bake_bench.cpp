@@ -23,10 +23,10 @@
 #include <optional>
 #include <vector>
 
+#include "bake/engine/bake_vertex.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
-#include "bake/vertex/bake_vertex.h"
 #include "bake/vertex/occlusion_fill.h"
 #include "bench/bench_meshes.h"
 #include "mesh_io/image_io.h"

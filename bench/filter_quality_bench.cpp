@@ -29,10 +29,10 @@
 #include <utility>
 #include <vector>
 
-#include "bake/atlas/bake_atlas.h"
+#include "bake/engine/bake_atlas.h"
+#include "bake/engine/bake_vertex.h"
 #include "bake/shade/shade.h"
 #include "bake/uv/uv_proxy.h"
-#include "bake/vertex/bake_vertex.h"
 #include "bench/bench_meshes.h"
 #include "mapping/mipmap.h"
 

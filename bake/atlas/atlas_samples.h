@@ -1,6 +1,6 @@
 // The atlas target's pieces that every kind of atlas bake shares (the
-// proxy's, bake/atlas/bake_atlas.h; the photos', bake/photo/photo_atlas.h;
-// the layers', bake/layers/layers_bake.h), written once:
+// proxy's, bake/engine/bake_atlas.h; the photos', bake/photo/photo_atlas.h;
+// the layers', bake/engine/layers_bake.h), written once:
 //  - a supersample's surface point and smooth normal;
 //  - the fill's per-vertex colours interpolated at a supersample;
 //  - a texel as the plain mean of its samples, with the --occluded colour
@@ -76,11 +76,5 @@ inline Rgba plain_texel(const std::array<double, 4>& acc, std::size_t samples,
   }
   return to_stored(mean);
 }
-
-// --padding as an atlas bake takes it: kPaddingDefault, kPaddingInfinite
-// (bake/atlas/bake_atlas.h) or a texel count 0 .. kMaxAtlasSize.
-// kInvalidArgument otherwise: "--padding N is not a texel count (0 ..
-// kMaxAtlasSize) or 'inf'".
-Status check_padding(int padding);
 
 }  // namespace texbake

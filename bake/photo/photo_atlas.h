@@ -30,7 +30,7 @@
 //     sRGB (alpha 1); under --occluded R,G,B a texel all of whose samples
 //     are unseen is the colour exactly, one partly so averages it (decoded)
 //     with its other samples;
-//  7. padding as the proxy atlas (pad_atlas of bake/atlas/bake_atlas.h).
+//  7. padding as the proxy atlas (pad_atlas of bake/atlas/atlas_common.h).
 //
 // Normal: the interpolated smooth vertex normal (normalised) gives
 // cos(theta) and the 75-degree cut, as the vertex bake's smooth normals
@@ -66,7 +66,7 @@
 #include <string>
 #include <vector>
 
-#include "bake/atlas/bake_atlas.h"  // kPaddingDefault, kPaddingInfinite
+#include "bake/atlas/atlas_common.h"  // kPaddingDefault, kPaddingInfinite
 #include "bake/photo/photo_bake.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/mesh_data.h"

@@ -92,7 +92,7 @@ struct PhotoBakeOptions {
   // How the photos' colour space is taken (--texture-colorspace).
   TextureColorSpace color_space = TextureColorSpace::kAuto;
   // Keep the blend per point (PhotoPoints below: a "cameras" layer,
-  // bake/layers/layers_bake.h, composites it instead of the colours).
+  // bake/engine/layers_bake.h, composites it instead of the colours).
   bool keep_points = false;
   // Called with each photo the bake uses (its index among them, as in
   // PhotoBakeResult::cameras), its image as loaded (linear light, alpha its

@@ -2,7 +2,7 @@
 // (u, v) becomes a colour, for a single proxy and image: the proxy vertex
 // bake, the proxy atlas bake and the render's ground truth (ProjectionSource)
 // call it, so a render shows exactly what such a bake computes. The layers
-// bake (bake/layers) looks its proxy and camera layers' images up through
+// bake (bake/engine/layers_bake.h) looks its proxy and camera layers' images up through
 // this rule's lookup (filters, wraps) in each layer's working space; the
 // photo bakes (bake/photo) still sample bilinearly in linear light with a
 // lookup of their own.

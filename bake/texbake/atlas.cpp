@@ -1,12 +1,12 @@
 // bake_atlas_texture: the UV layout (bake/uv/uv_layout.h), the atlas bake and
-// its padding (bake/atlas/bake_atlas.h) behind the API's conventions.
+// its padding (bake/engine/bake_atlas.h) behind the API's conventions.
 #include <string>
 #include <utility>
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/atlas_samples.h"
-#include "bake/atlas/bake_atlas.h"
 #include "bake/atlas/dilate.h"
+#include "bake/engine/bake_atlas.h"
 #include "bake/texbake/run.h"
 #include "bake/util/progress.h"
 #include "bake/util/timing.h"

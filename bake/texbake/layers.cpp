@@ -1,6 +1,6 @@
 // read_layers, bake_vertex_colors_from_layers and
 // bake_atlas_texture_from_layers: mesh_io's layers file and
-// images, and bake/layers behind the API's conventions.
+// images, and bake/engine/layers_bake.h behind the API's conventions.
 #include <algorithm>
 #include <optional>
 #include <string>

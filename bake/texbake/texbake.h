@@ -32,7 +32,7 @@
 // with this one): MeshData (mesh_io/mesh_data.h), Image / ImageView,
 // Proxy / ProxyParams / make_proxy / inverse_map (mapping/proxy.h),
 // ProxySpec (mapping/proxy_schema.h), the bake options (bake/shade/options.h,
-// bake/atlas/bake_atlas.h), the UV layout choice (bake/uv/uv_layout.h) and
+// bake/engine/bake_atlas.h), the UV layout choice (bake/uv/uv_layout.h) and
 // the render options and colour sources (bake/render/render_preview.h).
 //
 // Colour spaces (issue #11; README "Colour spaces"): read_image reports the
@@ -59,9 +59,9 @@
 #include <vector>
 
 #include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
-#include "bake/atlas/bake_atlas.h"
+#include "bake/engine/bake_atlas.h"
+#include "bake/engine/layers_bake.h"
 #include "bake/fit/model_alignment.h"
-#include "bake/layers/layers_bake.h"
 #include "bake/photo/camera_check.h"
 #include "bake/photo/photo_atlas.h"
 #include "bake/photo/photo_bake.h"
@@ -300,7 +300,7 @@ struct VertexColors {
 // The most samples per vertex of VertexFilter::kArea.
 inline constexpr int kMaxVertexSamples = 65536;
 
-// SPEC sections 3 and 4, per vertex (the contract of bake/vertex/bake_vertex.h).
+// SPEC sections 3 and 4, per vertex (the contract of bake/engine/bake_vertex.h).
 // Errors: kUsage (options out of range, an image without pixels), kInput (a
 // mesh with no non-degenerate triangle: see check_triangles), kInternal,
 // kCancelled. Progress stages: "bake" (per vertex), "fill".
@@ -491,7 +491,7 @@ struct LayerColors {
 
 // Vertex colours composited from the layers of `spec` over its base
 // (spec.base and base_color; of `options` only the occluded rule is used;
-// the contract of bake/layers/layers_bake.h): every layer's texture and mask
+// the contract of bake/engine/layers_bake.h): every layer's texture and mask
 // are read here (any format OpenImageIO reads; sampled in linear light). A
 // "cameras" layer's photos (read_cameras with its "images") are baked first
 // with the photo bake's rules (bake/photo/photo_bake.h: --blend soft,
@@ -534,7 +534,7 @@ struct Atlas {
 
 // The whole atlas pipeline: UV layout (bake/uv/uv_layout.h, with the gutter
 // rule: generated charts at least kMinGutter texels apart), bake
-// (bake/atlas/bake_atlas.h), padding (by default rings, then a mip-safe
+// (bake/engine/bake_atlas.h), padding (by default rings, then a mip-safe
 // push-pull of the colour with alpha 0). Warnings of the layout (UVs outside
 // [0, 1], overlaps, stretched pole triangles) are in stats.warnings. When
 // the layout overlaps (uv.overlap_texels > 0: --uv mesh or --uv proxy), the
@@ -572,7 +572,7 @@ struct LayerAtlas {
 };
 
 // The atlas target of bake --layers (the contract of bake_atlas_layers in
-// bake/layers/layers_bake.h): the UV layout of atlas.uv (kAuto, kMesh or
+// bake/engine/layers_bake.h): the UV layout of atlas.uv (kAuto, kMesh or
 // kGenerate; kProxy has no single proxy here), then per supersample every
 // layer of `spec` composited over its base, texel = the samples' mean in
 // premultiplied linear light, then atlas.bake.padding. Base "mesh" is the

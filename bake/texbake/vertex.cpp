@@ -1,10 +1,10 @@
-// bake_vertex_colors: bake/vertex/bake_vertex.h behind the API's conventions.
+// bake_vertex_colors: bake/engine/bake_vertex.h behind the API's conventions.
 #include <utility>
 
+#include "bake/engine/bake_vertex.h"
 #include "bake/texbake/run.h"
 #include "bake/util/progress.h"
 #include "bake/util/timing.h"
-#include "bake/vertex/bake_vertex.h"
 
 namespace texbake {
 

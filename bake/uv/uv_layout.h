@@ -65,7 +65,7 @@ struct UvLayoutResult {
   bool repeat_u = false;              // the layout is periodic in u
   // The mesh to bake against. kMesh: empty (the input itself); kProxy: the
   // cut mesh; kGenerate: empty, the charts are in `generated` (per triangle
-  // of the input; mesh_with_triangle_uvs of bake/atlas/bake_atlas.h makes
+  // of the input; mesh_with_triangle_uvs of bake/atlas/atlas_common.h makes
   // the mesh).
   MeshData mesh;
   UvAtlas generated;

@@ -1,8 +1,8 @@
 // The filtered lookup of one vertex (SPEC section 4, --filter): the one
 // implementation of the vertex target's bilinear, area and EWA filters,
 // through any projector, shared by the single-proxy vertex bake
-// (bake/vertex/bake_vertex.cpp) and the layers engine's vertex target
-// (bake/layers/layers_bake.cpp), so both filter a vertex the same way.
+// (bake/engine/bake_vertex.cpp) and the layers engine's vertex target
+// (bake/engine/layers_bake.cpp), so both filter a vertex the same way.
 //
 //  - kEwa: one lookup at the vertex through rule.project() with the
 //    footprint of the vertex's share of its triangles (a third of each,

@@ -3,7 +3,7 @@
 // the triangle (the shares of a triangle's three vertices tile it). The
 // vertex area filter spreads its samples over it and the EWA filter takes
 // it as the vertex's footprint on the surface; the proxy vertex bake
-// (bake/vertex/bake_vertex.h) and the layers engine (bake/layers) both call
+// (bake/engine/bake_vertex.h) and the layers engine (bake/engine/layers_bake.h) both call
 // these, so both filter a vertex the same way.
 #pragma once
 

@@ -11,8 +11,8 @@
 #include <filesystem>
 #include <string>
 
-#include "bake/atlas/bake_atlas.h"
 #include "bake/atlas/dilate.h"
+#include "bake/engine/bake_atlas.h"
 #include "bake/render/render_preview.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/uv/uv_generate.h"

@@ -8,8 +8,8 @@
 #include <random>
 
 #include "bake/atlas/atlas_raster.h"
-#include "bake/atlas/bake_atlas.h"
 #include "bake/atlas/dilate.h"
+#include "bake/engine/bake_atlas.h"
 #include "bake/util/parallel.h"
 #include "bake/uv/uv_proxy.h"
 #include "mesh_io/image_io.h"

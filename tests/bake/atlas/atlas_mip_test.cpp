@@ -39,8 +39,8 @@
 #include <string>
 #include <vector>
 
-#include "bake/atlas/bake_atlas.h"
 #include "bake/atlas/dilate.h"
+#include "bake/engine/bake_atlas.h"
 #include "tests/bake/bunny_earth.h"
 
 namespace texbake {

@@ -9,12 +9,12 @@
 #include <random>
 
 #include "bake/atlas/atlas_raster.h"
-#include "bake/atlas/bake_atlas.h"
 #include "bake/atlas/dilate.h"
+#include "bake/engine/bake_atlas.h"
+#include "bake/engine/bake_vertex.h"
 #include "bake/trace/embree_scene.h"
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
-#include "bake/vertex/bake_vertex.h"
 #include "mapping/sample.h"
 #include "tests/bake/atlas/atlas_test_util.h"
 

@@ -11,7 +11,7 @@
 
 #include <cmath>
 
-#include "bake/atlas/bake_atlas.h"
+#include "bake/engine/bake_atlas.h"
 #include "bake/photo/photo_atlas.h"
 #include "bake/util/parallel.h"
 #include "tests/bake/test_meshes.h"

@@ -24,9 +24,9 @@
 #include <numbers>
 #include <string>
 
+#include "bake/engine/bake_vertex.h"
 #include "bake/render/render_preview.h"
 #include "bake/trace/embree_scene.h"
-#include "bake/vertex/bake_vertex.h"
 #include "mesh_io/image_compare.h"
 #include "mesh_io/image_io.h"
 #include "tests/bake/bunny_earth.h"

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <vector>
 
-#include "bake/atlas/bake_atlas.h"
-#include "bake/vertex/bake_vertex.h"
+#include "bake/engine/bake_atlas.h"
+#include "bake/engine/bake_vertex.h"
 #include "mapping/mipmap.h"
 #include "tests/bake/atlas/atlas_test_util.h"
 #include "tests/bake/bunny_earth.h"

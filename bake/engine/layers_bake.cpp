@@ -1,4 +1,4 @@
-#include "bake/layers/layers_bake.h"
+#include "bake/engine/layers_bake.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/atlas_samples.h"
-#include "bake/atlas/bake_atlas.h"
+#include "bake/engine/bake_atlas.h"
 #include "bake/photo/segments.h"
 #include "bake/shade/footprint.h"
 #include "bake/shade/shade.h"
@@ -45,14 +45,27 @@ std::vector<float> premultiplied_linear(const ImageView& image) {
   return out;
 }
 
-// What one layer gives one point: its straight linear colour and a.
+// What a layer decided for a point.
+enum PointState : uint8_t {
+  kSeen = 0,      // mapped and seen
+  kHidden = 1,    // mapped, not seen (a blocked ray, a camera facing away)
+  kUnmapped = 2,  // no mapping (or the area filter found none)
+};
+
+// What one layer gives one point: its straight colour (the stack's working
+// space) and a; `coloured` when rgb and a hold a lookup (under
+// ResultAlpha::kImage a hidden point's too, for --occluded project).
 struct Contribution {
   std::array<float, 3> rgb{0, 0, 0};
   float a = 0;
+  uint8_t state = kUnmapped;
+  bool coloured = false;
 };
 
 struct LayerCounts {
   std::size_t in_domain = 0, visible = 0, blended = 0;
+  std::size_t hidden = 0, unmapped = 0;  // points (LayerStats)
+  FilterCounts filter;                   // the vertex filter's lookups
   double alpha_sum = 0;
   double seconds = 0;  // thread time in the layer (the atlas target)
 };
@@ -91,22 +104,31 @@ struct Prepared {
   double cos_a0 = 1, cos_a1 = 0;              // the angle fade's limits as cosines
   std::array<float, 3> outside_rgb{0, 0, 0};  // the stack's working space
   Rgba outside_sample{0, 0, 0, 0};            // the outside colour as a lookup (area filter)
+  WorkingImage straight;                      // LayerInput::straight: the linear copy
+  bool image_alpha = false;                   // ResultAlpha::kImage
+  bool project_hidden = false;                // kImage under OccludedMode::kProject
 };
 
 // Where the points come from, for the area and EWA filters: the vertex
 // target's vertices (point i is vertex i), or the atlas's supersamples.
 struct PointFrame {
   const MeshData* mesh = nullptr;
-  std::size_t first_vertex = 0;          // the vertex target: point i is vertex first_vertex + i
+  bool vertices = false;                 // the vertex target
+  std::size_t first_vertex = 0;          // point i is vertex first_vertex + i ...
+  const uint32_t* vertex_ids = nullptr;  // ... or vertex_ids[i] (a visit order)
   const Adjacency* adjacency = nullptr;  // the vertex target (area, EWA)
   const uint32_t* triangles = nullptr;   // the atlas target: each point's triangle
   double cell = 0;                       // the atlas target under EWA (ewa_cell)
+
+  std::size_t vertex(std::size_t point) const {
+    return vertex_ids ? vertex_ids[point] : first_vertex + point;
+  }
 };
 
 // The straight colour (the stack's working space) of a lookup in the
 // layer's working space.
 std::array<float, 3> straight_rgb(const Prepared& layer, const Rgba& s) {
-  if (!layer.input->linear) {
+  if (!layer.input->linear || layer.input->straight) {
     if (!layer.linearise) return {s[0], s[1], s[2]};
     const Rgba l = srgb_to_linear(s);
     return {l[0], l[1], l[2]};
@@ -116,22 +138,22 @@ std::array<float, 3> straight_rgb(const Prepared& layer, const Rgba& s) {
 }
 
 // The layer's filtered lookup for point `point` at q (mapped to r, not
-// kUndefined, and not outside unless the layer clamps): nullopt when the
-// area filter found no mapped sample. The vertex target is the shared
-// vertex filter (bake/vertex/vertex_filter.h; the rule's outside constant is
-// the layer's outside lookup, so the area filter's outside samples follow
-// the layer's `outside`); an atlas supersample is one lookup, under EWA with
-// the footprint of its cell.
+// kUndefined, and not outside unless the layer clamps or, under
+// ResultAlpha::kImage, takes a colour): nullopt when the area filter found
+// no mapped sample. The vertex target is the shared vertex filter
+// (bake/vertex/vertex_filter.h; the rule's outside constant is the layer's
+// outside lookup, so the area filter's outside samples follow the layer's
+// `outside`); an atlas supersample is one lookup, under EWA with the
+// footprint of its cell.
 template <class Map, class Jacobian>
 std::optional<Rgba> filtered(const Prepared& layer, const Map& map, const Jacobian& jacobian,
                              const PointFrame& frame, std::size_t point, const Vec3& q,
-                             const MapResult& r, VertexShare& share) {
+                             const MapResult& r, VertexShare& share, FilterCounts& counts) {
   const LayerInput& in = *layer.input;
-  if (frame.adjacency) {
-    FilterCounts counts;
+  if (frame.vertices) {
     return filter_vertex(layer.rule, in.filter, in.samples, map, jacobian, *frame.mesh,
-                         frame.adjacency, static_cast<uint32_t>(frame.first_vertex + point), r,
-                         share, counts);
+                         frame.adjacency, static_cast<uint32_t>(frame.vertex(point)), r, share,
+                         counts);
   }
   if (in.filter == VertexFilter::kEwa && frame.triangles && frame.cell > 0) {
     Vec3 t1, t2;
@@ -208,9 +230,36 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
     c = {};
     const MapResult& r = maps[i];
     if (r.status == MapStatus::kOk) ++counts.in_domain;
-    if (r.status == MapStatus::kUndefined) continue;
+    if (r.status == MapStatus::kUndefined) {
+      ++counts.unmapped;
+      continue;
+    }
+    c.state = seen[i] ? kSeen : kHidden;
     if (seen[i]) ++counts.visible;
-    if (!seen[i]) continue;
+    if (layer.image_alpha) {
+      // The single projection: the filtered lookup is the RGBA (outside
+      // points follow the rule: the constant or the clamped lookup).
+      if (seen[i] || layer.project_hidden) {
+        const std::optional<Rgba> s = filtered(layer, map, jacobian, frame, begin + i,
+                                               points[begin + i], r, share, counts.filter);
+        if (s) {
+          c.rgb = {(*s)[0], (*s)[1], (*s)[2]};
+          c.a = (*s)[3];
+          c.coloured = true;
+          if (c.a > 0) ++counts.blended;
+          counts.alpha_sum += c.a;
+        } else {
+          c.state = kUnmapped;
+        }
+      }
+      if (c.state == kHidden) ++counts.hidden;
+      if (c.state == kUnmapped) ++counts.unmapped;
+      continue;
+    }
+    if (!seen[i]) {
+      ++counts.hidden;
+      continue;
+    }
     const Vec3& nf = normals[begin + i];
     const double nlen = std::sqrt(nf.x * nf.x + nf.y * nf.y + nf.z * nf.z);
     const double cosine = nlen > 0 ? dot(nf, r.to_projector) / nlen : 1;
@@ -221,9 +270,13 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
       c.rgb = layer.outside_rgb;
       image_alpha = in.outside_color[3];
     } else {
-      const std::optional<Rgba> s =
-          filtered(layer, map, jacobian, frame, begin + i, points[begin + i], r, share);
-      if (!s) continue;  // the area filter: no sample has a mapping
+      const std::optional<Rgba> s = filtered(layer, map, jacobian, frame, begin + i,
+                                             points[begin + i], r, share, counts.filter);
+      if (!s) {  // the area filter: no sample has a mapping
+        c.state = kUnmapped;
+        ++counts.unmapped;
+        continue;
+      }
       image_alpha = (*s)[3];
       c.rgb = straight_rgb(layer, *s);
       if (in.mask.has_texels()) {
@@ -232,30 +285,55 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
       }
     }
     c.a = static_cast<float>(in.opacity) * image_alpha * mask * fade(layer, cosine);
+    c.coloured = true;
     if (c.a > 0) ++counts.blended;
     counts.alpha_sum += c.a;
   }
 }
 
 // A "cameras" layer's contributions for the points [begin, end): the
-// photo blend of point ids[i] (atlas samples) or of vertex first_vertex + i.
-void photo_block(const Prepared& layer, const uint32_t* ids, std::size_t first_vertex,
+// photo blend of point ids[i] (atlas samples) or of the frame's vertex i.
+void photo_block(const Prepared& layer, const uint32_t* ids, const PointFrame& frame,
                  std::size_t begin, std::size_t end, Contribution* out, LayerCounts& counts) {
   const LayerInput& in = *layer.input;
   const PhotoPoints& points = ids ? in.photos->samples : in.photos->vertices;
   for (std::size_t i = begin; i < end; ++i) {
-    const std::size_t id = ids ? ids[i] : first_vertex + i;
+    const std::size_t id = ids ? ids[i] : frame.vertex(i);
     Contribution& c = out[i];
     c = {};
     const uint8_t state = points.state[id];
     if (state != PhotoPoints::kNoView) ++counts.in_domain;
-    if (state != PhotoPoints::kSeen) continue;
+    if (state != PhotoPoints::kSeen) {
+      c.state = state == PhotoPoints::kNoView ? kUnmapped : kHidden;
+      ++(state == PhotoPoints::kNoView ? counts.unmapped : counts.hidden);
+      continue;
+    }
     ++counts.visible;
+    c.state = kSeen;
+    c.coloured = true;
     c.rgb = points.rgb[id];
     c.a = static_cast<float>(in.opacity) * fade(layer, points.cosine[id]);
     if (c.a > 0) ++counts.blended;
     counts.alpha_sum += c.a;
   }
+}
+
+// f(map, jacobian) with the layer's projector's inverse mapping and its
+// Jacobian (a camera or any analytic proxy; not a "cameras" layer).
+template <class F>
+void with_projector(const Prepared& layer, F&& f) {
+  if (layer.camera) {
+    const CameraProjector& cam = *layer.camera;
+    // No EWA through a camera (prepare refuses it): no Jacobian needed.
+    f([&cam](Vec3 p) { return cam.inverse_map(p); }, [](Vec3) { return UvJacobian{}; });
+    return;
+  }
+  std::visit(
+      [&](const auto& proxy) {
+        f([&proxy](Vec3 p) { return proxy.inverse_map(p); },
+          [&proxy](Vec3 p) { return inverse_map_jacobian(proxy, p); });
+      },
+      std::get<Proxy>(layer.input->projector));
 }
 
 // layer_block through the layer's projector (a camera or any analytic
@@ -266,23 +344,13 @@ void contributions(const Prepared& layer, const PointFrame& frame, const Vec3* p
                    std::size_t end, Contribution* out, LayerCounts& counts,
                    const uint32_t* sample_ids = nullptr) {
   if (layer.input->photos) {
-    photo_block(layer, sample_ids, frame.first_vertex, begin, end, out, counts);
-  } else if (layer.camera) {
-    const CameraProjector& cam = *layer.camera;
-    // No EWA through a camera (prepare refuses it): no Jacobian needed.
-    layer_block(
-        layer, [&](Vec3 p) { return cam.inverse_map(p); }, [](Vec3) { return UvJacobian{}; }, frame,
-        points, normals, scene, offset, begin, end, out, counts);
-  } else {
-    std::visit(
-        [&](const auto& proxy) {
-          layer_block(
-              layer, [&](Vec3 p) { return proxy.inverse_map(p); },
-              [&](Vec3 p) { return inverse_map_jacobian(proxy, p); }, frame, points, normals, scene,
-              offset, begin, end, out, counts);
-        },
-        std::get<Proxy>(layer.input->projector));
+    photo_block(layer, sample_ids, frame, begin, end, out, counts);
+    return;
   }
+  with_projector(layer, [&](const auto& map, const auto& jacobian) {
+    layer_block(layer, map, jacobian, frame, points, normals, scene, offset, begin, end, out,
+                counts);
+  });
 }
 
 // One layer's image and rules, ready for layer_block, in a stack whose
@@ -331,6 +399,9 @@ Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
   if (!in.linear) {
     layer.view = in.texture;  // as stored, straight alpha
     layer.linearise = linear && !works_linear(in);
+  } else if (in.straight) {  // linear light, straight alpha
+    layer.straight = working_image(in.texture, true);
+    layer.view = layer.straight.view;
   } else if (in.texture.data) {
     layer.texture = premultiplied_linear(in.texture);
     layer.view = {in.texture.width, in.texture.height, layer.texture.data(), ColorSpace::kLinear};
@@ -340,7 +411,7 @@ Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
     layer.view.premultiply = true;
     layer.view.color_space = ColorSpace::kLinear;
   }
-  if (in.linear) {
+  if (in.linear && !in.straight) {
     // The file's MIP levels average stored values, not premultiplied linear light.
     layer.view.mip_levels = nullptr;
     layer.view.mip_level_count = 0;
@@ -360,7 +431,8 @@ Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
   if (in.outside == LayerOutside::kColor) {
     // As a lookup: the rule's working encoding, premultiplied for a linear layer.
     const Rgba c = layer.rule.working(in.outside_color);
-    layer.outside_sample = in.linear ? Rgba{c[0] * c[3], c[1] * c[3], c[2] * c[3], c[3]} : c;
+    const bool premultiplied = in.linear && !in.straight;
+    layer.outside_sample = premultiplied ? Rgba{c[0] * c[3], c[1] * c[3], c[2] * c[3], c[3]} : c;
   }
   // The area filter's outside samples (ShadeRule::project): the outside
   // lookup (transparent: 0) unless the layer clamps.
@@ -432,6 +504,10 @@ std::vector<LayerStats> layer_stats(const std::vector<LayerInput>& layers,
       stats.in_domain += c.in_domain;
       stats.visible += c.visible;
       stats.blended += c.blended;
+      stats.hidden += c.hidden;
+      stats.unmapped += c.unmapped;
+      stats.lookups += c.filter.samples;
+      stats.outside += c.filter.outside;
       alpha_sum += c.alpha_sum;
       thread_seconds[l] += c.seconds;
     }
@@ -446,25 +522,136 @@ std::vector<LayerStats> layer_stats(const std::vector<LayerInput>& layers,
   return out;
 }
 
+// The 2D Morton (Z-order) code of (x, y) < 2^24 each: blocks near in the
+// image are near in the order.
+uint64_t morton2(uint32_t x, uint32_t y) {
+  auto spread = [](uint64_t v) {
+    v &= 0xFFFFFF;
+    v = (v | (v << 16)) & 0x0000FFFF0000FFFFull;
+    v = (v | (v << 8)) & 0x00FF00FF00FF00FFull;
+    v = (v | (v << 4)) & 0x0F0F0F0F0F0F0F0Full;
+    v = (v | (v << 2)) & 0x3333333333333333ull;
+    v = (v | (v << 1)) & 0x5555555555555555ull;
+    return v;
+  };
+  return spread(x) | (spread(y) << 1);
+}
+
+// A texture read in tiles (--cache-mb): the vertex target visits the
+// vertices in the order of their place in the first such layer's image, so
+// that neighbouring lookups share tiles and each tile of the file is read
+// about once, not once per visit of a scattered vertex order (a subdivided
+// mesh appends its new vertices level by level). Every vertex's colour is
+// its own: the same result. Empty when no layer's image is tiled.
+// The order: by the Morton code of the 256-texel block the vertex's mapping
+// lands in (unmapped vertices last), ties by index.
+std::vector<uint32_t> visit_order(const MeshData& mesh,
+                                  const std::vector<std::unique_ptr<Prepared>>& layers) {
+  const Prepared* tiled = nullptr;
+  for (const auto& l : layers) {
+    if (!l->input->photos && !l->view.data) {
+      tiled = l.get();
+      break;
+    }
+  }
+  if (!tiled) return {};
+  const ImageView& image = tiled->view;
+  const std::size_t n = mesh.positions.size();
+  std::vector<uint64_t> keys(n);
+  with_projector(*tiled, [&](const auto& map, const auto&) {
+    parallel_for_chunks(n, 16384, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t v = begin; v < end; ++v) {
+        const Float3& f = mesh.positions[v];
+        const MapResult m = map(Vec3{f.x, f.y, f.z});
+        uint64_t key = ~uint64_t{0};
+        if (m.status != MapStatus::kUndefined) {
+          const PixelPos px = pixel_from_uv(m.uv, image.width, image.height);
+          const auto block = [](double c, int size) {
+            return static_cast<uint32_t>(std::clamp(c, 0.0, size - 1.0)) >> 8;
+          };
+          key = morton2(block(px.x, image.width), block(px.y, image.height));
+        }
+        keys[v] = key;
+      }
+    });
+  });
+  std::vector<uint32_t> order(n);
+  for (std::size_t v = 0; v < n; ++v) order[v] = static_cast<uint32_t>(v);
+  std::stable_sort(order.begin(), order.end(),
+                   [&keys](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+  return order;
+}
+
+// The mean of an image's texels. In bands of rows (read_rows), so a tiled
+// image (mapping/tiled_image.h) is summed without being held whole; the
+// same sums in the same order either way.
+Rgba image_mean(const ImageView& image) {
+  double sum[4] = {0, 0, 0, 0};
+  constexpr int kBand = 64;
+  std::vector<float> band(static_cast<std::size_t>(image.width) * kBand * 4);
+  for (int y0 = 0; y0 < image.height; y0 += kBand) {
+    const int y1 = std::min(image.height, y0 + kBand);
+    read_rows(image, y0, y1, band.data());
+    const std::size_t n = static_cast<std::size_t>(image.width) * (y1 - y0);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int k = 0; k < 4; ++k) sum[k] += band[4 * i + k];
+    }
+  }
+  const double pixels = static_cast<double>(image.width) * image.height;
+  Rgba mean;
+  for (int k = 0; k < 4; ++k) mean[k] = static_cast<float>(sum[k] / pixels);
+  return mean;
+}
+
+// ResultAlpha::kImage takes one layer that is the projection alone.
+Status check_single_projection(const std::vector<LayerInput>& layers,
+                               const LayersBakeOptions& options) {
+  const auto refuse = [](const std::string& why) -> Status {
+    return make_error(ErrorCode::kInvalidArgument, "the single-projection bake " + why);
+  };
+  if (layers.size() != 1) return refuse("takes exactly one layer");
+  const LayerInput& l = layers[0];
+  if (l.photos) return refuse("takes a proxy or a camera, not a set of photos");
+  if (l.opacity != 1 || l.mask.has_texels() || l.angle_fade || l.mode != LayerMode::kOver) {
+    return refuse("takes no opacity, mask, angle fade or blend mode");
+  }
+  if (l.outside == LayerOutside::kTransparent) {
+    return refuse("takes outside \"clamp\" or a colour, not \"transparent\"");
+  }
+  if (options.base != LayerBase::kNone) return refuse("takes no base");
+  return ok_status();
+}
+
 }  // namespace
 
-Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
-                                              const std::vector<LayerInput>& layers,
-                                              const LayersBakeOptions& options,
-                                              Progress* progress) {
+Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
+                                                      const std::vector<LayerInput>& layers,
+                                                      const LayersBakeOptions& options,
+                                                      Progress* progress) {
   if (layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
+  const bool image_alpha = options.alpha == ResultAlpha::kImage;
+  if (image_alpha) {
+    if (Status s = check_single_projection(layers, options); !s) return s.error();
+  }
   const std::size_t n = mesh.positions.size();
   if (options.base == LayerBase::kMesh && mesh.vertex_colors.size() != n) {
     return make_error(ErrorCode::kInvalidArgument, "base \"mesh\": the mesh has no vertex colours");
   }
-  LayersBakeResult result;
+  LayersVertexStage stage;
+  LayersBakeResult& result = stage.result;
   auto start = Clock::now();
-  std::optional<EmbreeScene> scene;
+  std::optional<EmbreeScene> own_scene;
+  const EmbreeScene* scene = nullptr;
   double offset = 0;
   if (std::any_of(layers.begin(), layers.end(), needs_scene)) {
-    Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
-    if (!built) return built.error();
-    scene.emplace(std::move(built).value());
+    if (options.scene) {
+      scene = options.scene;
+    } else {
+      Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
+      if (!built) return built.error();
+      own_scene.emplace(std::move(built).value());
+      scene = &*own_scene;
+    }
     offset = visibility_offset(*scene);
   }
   // The smooth normals, where a layer reads them (a camera's facing test,
@@ -485,10 +672,12 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
     Expected<std::unique_ptr<Prepared>> p = prepare(in, linear, n);
     if (!p) return p.error();
     prepared.push_back(std::move(p).value());
+    prepared.back()->image_alpha = image_alpha;
+    prepared.back()->project_hidden = image_alpha && options.occluded == OccludedMode::kProject;
     prepare_seconds.push_back(seconds_since(layer_start));
   }
   // The base: straight colour (the stack's working space) and coverage.
-  std::vector<Rgba> colour(n, Rgba{0, 0, 0, 0});
+  std::vector<Rgba> colour(n, Rgba{0, 0, 0, image_alpha ? 1.f : 0.f});
   if (options.base == LayerBase::kColor) {
     std::fill(colour.begin(), colour.end(), to_work(options.base_color, linear));
   } else if (options.base == LayerBase::kMesh) {
@@ -497,6 +686,9 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
       colour[v] = to_work(Rgba{c[0], c[1], c[2], c[3]}, linear);
     }
   }
+  // ResultAlpha::kImage: what the layer decided per vertex (PointState).
+  std::vector<uint8_t> state;
+  if (image_alpha) state.assign(n, kUnmapped);
   // The area and EWA filters' vertex shares.
   const bool shares = std::any_of(layers.begin(), layers.end(), [](const LayerInput& l) {
     return !l.photos && l.filter != VertexFilter::kBilinear;
@@ -504,10 +696,12 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   Adjacency adjacency;
   PointFrame frame;
   frame.mesh = &mesh;
+  frame.vertices = true;
   if (shares) {
     adjacency = build_adjacency(mesh);
     frame.adjacency = &adjacency;
   }
+  const std::vector<uint32_t> order = visit_order(mesh, prepared);
   const std::size_t layer_count = layers.size();
   // Per block and layer, so that the sums are taken in block order.
   std::vector<LayerCounts> counts(block_count(n, kGrain) * layer_count);
@@ -516,51 +710,126 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
   parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
     if (is_cancelled(progress)) return;
     const std::size_t m = end - begin;
+    PointFrame block_frame = frame;
+    block_frame.first_vertex = begin;
+    if (!order.empty()) block_frame.vertex_ids = order.data() + begin;
     std::vector<Vec3> points(m), point_normals(m);
     std::vector<Contribution> contribution(m);
     for (std::size_t i = 0; i < m; ++i) {
-      points[i] = vec(mesh.positions[begin + i]);
-      if (with_normals) point_normals[i] = vec(normals[begin + i]);
+      const std::size_t v = block_frame.vertex(i);
+      points[i] = vec(mesh.positions[v]);
+      if (with_normals) point_normals[i] = vec(normals[v]);
     }
-    PointFrame block_frame = frame;
-    block_frame.first_vertex = begin;
     for (std::size_t l = 0; l < layer_count; ++l) {
       const auto layer_start = Clock::now();
       LayerCounts& c = counts[block * layer_count + l];
-      contributions(*prepared[l], block_frame, points.data(), point_normals.data(),
-                    scene ? &*scene : nullptr, offset, 0, m, contribution.data(), c);
-      // Composite (straight colour B, coverage alpha) in the stack's working space.
-      const LayerMode mode = layers[l].mode;
-      for (std::size_t i = 0; i < m; ++i) composite(mode, contribution[i], colour[begin + i]);
+      contributions(*prepared[l], block_frame, points.data(), point_normals.data(), scene, offset,
+                    0, m, contribution.data(), c);
+      if (image_alpha) {  // the lookup itself, alpha included
+        for (std::size_t i = 0; i < m; ++i) {
+          const std::size_t v = block_frame.vertex(i);
+          const Contribution& k = contribution[i];
+          state[v] = k.state;
+          if (k.coloured) colour[v] = {k.rgb[0], k.rgb[1], k.rgb[2], k.a};
+        }
+      } else {
+        // Composite (straight colour B, coverage alpha) in the stack's working space.
+        const LayerMode mode = layers[l].mode;
+        for (std::size_t i = 0; i < m; ++i) {
+          composite(mode, contribution[i], colour[block_frame.vertex(i)]);
+        }
+      }
       c.seconds += seconds_since(layer_start);
     }
     if (progress) progress->advance(m);
   });
   if (is_cancelled(progress)) return cancelled_error();
   if (progress) progress->finish();
+  own_scene.reset();  // the BVH is not needed any more: free it before the fill
   result.seconds_layers = seconds_since(start);
-  result.layers =
-      layer_stats(layers, counts, n, prepare_seconds, result.seconds_layers - pass_start);
 
-  // Uncovered vertices: the fill over their RGB (alpha stays 0), or a constant.
+  // The unknown vertices and their fate (bake/vertex/vertex_resolve.h).
   start = Clock::now();
   std::vector<uint8_t> unknown(n, 0);
-  for (std::size_t v = 0; v < n; ++v) unknown[v] = colour[v][3] > 0 ? 0 : 1;
-  result.uncovered = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 1));
-  // (A component no layer covers: transparent black under the fill.)
   VertexResolve how;
   how.fill = options.occluded != OccludedMode::kColor;
-  how.constant = how.fill ? Rgba{0, 0, 0, 0} : options.occluded_color;
-  how.coverage = true;
   how.linear = linear;
-  if (progress) progress->start("fill", 1);
-  Expected<FillResult> fill = resolve_vertices(mesh, colour, unknown, std::move(how));
-  if (!fill) return fill.error();
-  if (progress) progress->finish();
-  if (is_cancelled(progress)) return cancelled_error();
-  result.filled = fill->filled;
+  LayerCounts fallback;
+  std::optional<Rgba> mean;
+  VertexShare share;
+  if (image_alpha) {
+    // Hidden vertices unless projected, and those without a mapping;
+    // alpha is a colour channel.
+    const bool project = options.occluded == OccludedMode::kProject;
+    for (std::size_t v = 0; v < n; ++v) {
+      unknown[v] = state[v] == kUnmapped || (state[v] == kHidden && !project);
+    }
+    how.constant = options.occluded_color;
+    // Unanchored components take the projected colour; vertices without
+    // any mapping the image's mean (never black, never arbitrary).
+    const Prepared& layer = *prepared[0];
+    how.fallback = [&](uint32_t v) -> Rgba {
+      if (state[v] == kHidden) {
+        std::optional<Rgba> c;
+        with_projector(layer, [&](const auto& map, const auto& jacobian) {
+          const Vec3 p = vec(mesh.positions[v]);
+          const MapResult r = map(p);
+          if (r.status == MapStatus::kUndefined) return;
+          PointFrame one = frame;
+          one.first_vertex = v;
+          c = filtered(layer, map, jacobian, one, 0, p, r, share, fallback.filter);
+        });
+        if (c) return *c;
+      }
+      if (!mean) mean = image_mean(layer.view);
+      return *mean;
+    };
+  } else {
+    // Uncovered vertices: the fill over their RGB (alpha stays 0), or a
+    // constant's RGB. (A component no layer covers: transparent black
+    // under the fill.)
+    for (std::size_t v = 0; v < n; ++v) unknown[v] = colour[v][3] > 0 ? 0 : 1;
+    how.constant = how.fill ? Rgba{0, 0, 0, 0} : options.occluded_color;
+    how.coverage = true;
+  }
+  result.uncovered = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 1));
+  stage.plan = plan_resolve(mesh, colour, unknown, std::move(how));
+  stage.plan.how.fallback = nullptr;  // it refers to this frame: not past it
+  result.filled = stage.plan.plan.result.filled;
+  result.unfilled = stage.plan.plan.result.unfilled;
+  result.layers =
+      layer_stats(layers, counts, n, prepare_seconds, result.seconds_layers - pass_start);
+  result.layers[0].lookups += fallback.filter.samples;  // the fallbacks' (kImage: one layer)
+  result.layers[0].outside += fallback.filter.outside;
+  for (const LayerInput& in : layers) {
+    if (Status s = check_texels_read(in.texture); !s) return s.error();
+  }
   result.colors = std::move(colour);
   result.seconds_fill = seconds_since(start);
+  return stage;
+}
+
+Expected<LayersBakeResult> bake_vertex_layers_finish(const MeshData& mesh,
+                                                     LayersVertexStage stage) {
+  const auto start = Clock::now();
+  LayersBakeResult& result = stage.result;
+  Expected<FillResult> fill = finish_resolve(mesh, result.colors, std::move(stage.plan));
+  if (!fill) return fill.error();
+  result.seconds_fill += seconds_since(start);
+  return std::move(result);
+}
+
+Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
+                                              const std::vector<LayerInput>& layers,
+                                              const LayersBakeOptions& options,
+                                              Progress* progress) {
+  Expected<LayersVertexStage> stage = bake_vertex_layers_sample(mesh, layers, options, progress);
+  if (!stage) return stage.error();
+  if (progress) progress->start("fill", 1);
+  Expected<LayersBakeResult> result = bake_vertex_layers_finish(mesh, std::move(stage).value());
+  if (!result) return result.error();
+  if (progress) progress->finish();
+  if (is_cancelled(progress)) return cancelled_error();
   return result;
 }
 

@@ -1,5 +1,9 @@
-// Layers (SPEC section 10): several projections composited over a base,
-// bottom first, per sample in linear light.
+// The bake engine: every bake's loop over its sample points. A bake is an
+// ordered stack of projections (layers) evaluated at the vertices or at
+// the atlas's supersamples. Layers (SPEC section 10): several projections
+// composited over a base, bottom first, per sample in linear light. The
+// single-proxy vertex bake (bake/engine/bake_vertex.h) is a one-layer stack
+// under ResultAlpha::kImage (SPEC section 4's rules).
 //
 // Per sample (a vertex, or an atlas supersample: bake_atlas_layers below)
 // and layer, with d = d(P) the direction towards
@@ -33,7 +37,8 @@
 // Samples with coverage 0 (no base colour, no layer) follow `occluded`
 // (OccludedMode::kFill: the harmonic fill of bake/vertex/occlusion_fill.h
 // over their RGB, alpha staying 0; kColor: the constant's RGB, alpha 0;
-// kProject acts as kFill). Results do not depend on the thread count.
+// kProject acts as kFill; ResultAlpha::kImage has its own rules). Results
+// do not depend on the thread count.
 // One per-point implementation serves both targets: the vertex target's
 // points are the vertices with their smooth normals, the atlas's its
 // supersamples with the interpolated smooth normals.
@@ -45,7 +50,9 @@
 
 #include "bake/photo/photo_bake.h"
 #include "bake/shade/options.h"
+#include "bake/trace/embree_scene.h"
 #include "bake/util/progress.h"
+#include "bake/vertex/vertex_resolve.h"
 #include "mapping/error.h"
 #include "mapping/image_view.h"
 #include "mapping/mipmap.h"
@@ -102,7 +109,7 @@ struct LayerInput {
   //  - kEwa (an analytic proxy only: kInvalidArgument for a camera): the EWA
   //    lookup over the working image's MIP pyramid with the footprint of the
   //    proxy bake: the vertex's share (bake/shade/footprint.h), or the atlas
-  //    supersample's cell (bake/atlas/bake_atlas.h cell_tangents).
+  //    supersample's cell (bake/engine/bake_atlas.h cell_tangents).
   // A "cameras" layer is the photo bake's own lookup: kBilinear only.
   VertexFilter filter = VertexFilter::kBilinear;
   int samples = 16;  // kArea: lookups per vertex (>= 1)
@@ -119,6 +126,28 @@ struct LayerInput {
   // one-layer stack is the single-proxy bake); otherwise an sRGB-encoded
   // layer's colour is linearised before it composites.
   bool linear = true;
+  // With `linear`: straight alpha, not premultiplied (the single-proxy
+  // bake's --linear: the image's RGB linearised, alpha kept, looked up and
+  // averaged straight; SPEC section 1).
+  bool straight = false;
+};
+
+// What a vertex target's alpha is, and which vertices the fill resolves.
+enum class ResultAlpha {
+  // Layers (SPEC section 10): alpha is the coverage; the vertices with
+  // coverage 0 are resolved (their RGB filled, alpha 0).
+  kCoverage,
+  // The single projection (SPEC section 4): one layer (opacity 1, no mask,
+  // no angle fade, mode "over", base "none", outside clamp or a colour),
+  // whose filtered lookup is the vertex's RGBA, alpha included (the image's
+  // alpha is a colour channel, averaged and filled as one). A vertex is
+  // known where the projector maps and sees it, whatever its alpha; a
+  // hidden one (mapped, its visibility ray blocked) is resolved by
+  // `occluded` (kProject: its projected colour; kFill: the fill), one with
+  // no mapping by the fill (or the constant under kColor). A component of
+  // unknown vertices that touches no known vertex takes its projected
+  // colour, or the image's mean where it has none.
+  kImage,
 };
 
 struct LayersBakeOptions {
@@ -136,6 +165,11 @@ struct LayersBakeOptions {
   // A "cameras" layer's photos that disagree on the mesh are a warning
   // (PhotoBakeOptions::consistency_warning); off with --no-alignment-check.
   bool consistency_warning = true;
+  // The vertex target's alpha and unknown vertices (ResultAlpha).
+  ResultAlpha alpha = ResultAlpha::kCoverage;
+  // A scene already built over the mesh (EmbreeScene::build) for the
+  // visibility rays, instead of building one; not owned. The same results.
+  const EmbreeScene* scene = nullptr;
 };
 
 struct LayerStats {
@@ -143,11 +177,16 @@ struct LayerStats {
   // Seconds spent on this layer: its share of the layers stage (by the
   // threads' time in it), plus for a "cameras" layer the photo bake.
   double seconds = 0;
-  bool photos = false;                // a "cameras" layer (name: its model or list)
-  std::size_t in_domain = 0;          // samples the projector maps inside its (u, v) domain
-  std::size_t visible = 0;            // of the mapped samples, those it sees
-  std::size_t blended = 0;            // samples with a > 0
-  double mean_alpha = 0;              // mean a over all samples
+  bool photos = false;        // a "cameras" layer (name: its model or list)
+  std::size_t in_domain = 0;  // samples the projector maps inside its (u, v) domain
+  std::size_t visible = 0;    // of the mapped samples, those it sees
+  std::size_t blended = 0;    // samples with a > 0
+  double mean_alpha = 0;      // mean a over all samples
+  // The vertex target: the filter's lookups (kArea: one per share point;
+  // the fallbacks' included) and of those the ones outside the (u, v)
+  // domain; vertices mapped but not seen (a blocked ray, a camera facing
+  // away); vertices without a mapping (or whose area filter found none).
+  std::size_t lookups = 0, outside = 0, hidden = 0, unmapped = 0;
   std::vector<SkippedPhoto> skipped;  // a "cameras" layer: its photos left out
 };
 
@@ -156,6 +195,7 @@ struct LayersBakeResult {
   std::vector<LayerStats> layers;
   std::size_t uncovered = 0;  // vertices with coverage 0
   std::size_t filled = 0;     // of those, coloured by the fill
+  std::size_t unfilled = 0;   // of those, in components the fill could not reach
   double seconds_scene = 0, seconds_layers = 0, seconds_fill = 0;
 };
 
@@ -170,10 +210,26 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
                                               const LayersBakeOptions& options,
                                               Progress* progress = nullptr);
 
+// The same in two steps, for callers that free the images before the
+// fill's solve (the memory peak): bake_vertex_layers_sample does all that
+// reads the images (the layers, the fill's plan and fallbacks; stage
+// "bake"); bake_vertex_layers_finish solves the fill and encodes the
+// colours. bake_vertex_layers = finish(sample(...)) with the stage "fill"
+// around the finish.
+struct LayersVertexStage {
+  LayersBakeResult result;  // colours still in the working space
+  VertexResolvePlan plan;
+};
+Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
+                                                      const std::vector<LayerInput>& layers,
+                                                      const LayersBakeOptions& options,
+                                                      Progress* progress = nullptr);
+Expected<LayersBakeResult> bake_vertex_layers_finish(const MeshData& mesh, LayersVertexStage stage);
+
 // ---- The atlas target -------------------------------------------------------
 //
 // bake_atlas_layers: the supersamples of the atlas (bake/atlas/atlas_raster.h,
-// streamed band by band like bake/atlas/bake_atlas.h) take the place of the
+// streamed band by band like bake/engine/bake_atlas.h) take the place of the
 // vertices: each sample's point (barycentric on its triangle) and its
 // interpolated smooth vertex normal (normalised; the face's when they cancel)
 // go through every layer as above, composited over the sample's base:
@@ -194,7 +250,7 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
 // (bake_vertex_layers; base "none" when the base is the texture)
 // interpolated barycentrically, as the proxy atlas does with its per-vertex
 // fill; under kColor the constant's RGB exactly; alpha stays 0. Padding:
-// pad_atlas (bake/atlas/bake_atlas.h) as `padding` says. Layer stats count
+// pad_atlas (bake/engine/bake_atlas.h) as `padding` says. Layer stats count
 // samples (in_domain, visible, blended; mean alpha over all samples).
 // Memory: the atlas, every layer's working image, and one band of samples
 // per thread. Results do not depend on the thread count.

@@ -2,7 +2,7 @@
 // every expected colour worked out by hand from the SPEC's formulas in
 // linear light (sRGB decode/encode by the IEC 61966-2-1 formulas written
 // out here, not texbake's).
-#include "bake/layers/layers_bake.h"
+#include "bake/engine/layers_bake.h"
 
 #include <gtest/gtest.h>
 

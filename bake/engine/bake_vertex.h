@@ -1,5 +1,7 @@
 // The per-vertex target (SPEC section 4): one RGBA colour per vertex of a
-// mesh, from an image carried through a proxy's inverse mapping.
+// mesh, from an image carried through a proxy's inverse mapping. It is the
+// engine's vertex target (bake/engine/layers_bake.h) over a one-layer stack
+// with ResultAlpha::kImage; this header states the rules it follows.
 //
 // For every vertex, in the input's order (unreferenced vertices included):
 //  1. Filter. kBilinear: one bilinear sample at the vertex. kArea: the average

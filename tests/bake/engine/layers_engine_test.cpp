@@ -4,17 +4,17 @@
 // 8-bit colours, byte for byte, for the vertex target under the area and
 // EWA filters and for the atlas target under EWA; and a filter that does
 // not apply to a projector is refused. The oracle is the independent proxy
-// loop (bake/vertex/bake_vertex.cpp, bake/atlas/bake_atlas.cpp), which has
+// loop (bake/engine/bake_vertex.cpp, bake/engine/bake_atlas.cpp), which has
 // its own golden tests.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "bake/atlas/bake_atlas.h"
-#include "bake/layers/layers_bake.h"
+#include "bake/engine/bake_atlas.h"
+#include "bake/engine/bake_vertex.h"
+#include "bake/engine/layers_bake.h"
 #include "bake/util/parallel.h"
-#include "bake/vertex/bake_vertex.h"
 #include "tests/bake/test_meshes.h"
 
 namespace texbake {
@@ -301,6 +301,94 @@ TEST(LayersEngine, StackIsIdenticalWithOneAndTwoThreads) {
     // The sphere's rays are blocked under the grid: seen < mapped.
     EXPECT_LT((*stats)[0].visible, (*stats)[0].in_domain);
   }
+}
+
+TEST(LayersEngine, SingleProjectionRuleTakesOneBareLayer) {
+  // ResultAlpha::kImage (the proxy vertex bake's rules) takes one layer that
+  // is the projection alone; anything a stack adds is refused, not ignored.
+  const MeshData mesh = test::uv_sphere({0, 0, 0}, 1, 6, 12);
+  Expected<Proxy> sphere = make_proxy(SphereParams{{0, 0, 0}, 2, {0, 0, 1}, Vec3{1, 0, 0}});
+  ASSERT_TRUE(sphere);
+  const std::vector<float> px = detailed_image(16, 8);
+  const ImageView image{16, 8, px.data(), ColorSpace::kSrgb};
+  LayersBakeOptions single;
+  single.alpha = ResultAlpha::kImage;
+  const LayerInput bare = proxy_layer(image, *sphere, VertexFilter::kBilinear);
+  ASSERT_TRUE(bake_vertex_layers(mesh, {bare}, single));
+  const auto refused = [&](std::vector<LayerInput> stack, LayersBakeOptions options) {
+    Expected<LayersBakeResult> r = bake_vertex_layers(mesh, stack, options);
+    if (r) return testing::AssertionFailure() << "baked";
+    if (r.error().code != ErrorCode::kInvalidArgument ||
+        r.error().message.find("single-projection") == std::string::npos) {
+      return testing::AssertionFailure() << r.error().message;
+    }
+    return testing::AssertionSuccess();
+  };
+  EXPECT_TRUE(refused({bare, bare}, single));
+  LayerInput faded = bare;
+  faded.opacity = 0.5;
+  EXPECT_TRUE(refused({faded}, single));
+  LayerInput transparent = bare;
+  transparent.outside = LayerOutside::kTransparent;
+  EXPECT_TRUE(refused({transparent}, single));
+  LayerInput multiply = bare;
+  multiply.mode = LayerMode::kMultiply;
+  EXPECT_TRUE(refused({multiply}, single));
+  LayersBakeOptions based = single;
+  based.base = LayerBase::kColor;
+  EXPECT_TRUE(refused({bare}, based));
+}
+
+TEST(LayersEngine, VertexStatsCountLookupsOutsideHiddenAndUnmapped) {
+  // A unit uv_sphere (10 rings of 20: 182 vertices, z = cos(pi i / 10) on
+  // ring i) under four one-layer stacks whose counts follow from the
+  // positions alone.
+  const MeshData mesh = test::uv_sphere({0, 0, 0}, 1, 10, 20);
+  const std::size_t n = mesh.positions.size();
+  ASSERT_EQ(n, 182u);
+  const std::vector<float> px = detailed_image(16, 8);
+  const ImageView image{16, 8, px.data(), ColorSpace::kSrgb};
+  const auto stats = [&](const LayerInput& layer) {
+    Expected<LayersBakeResult> r = bake_vertex_layers(mesh, {layer}, LayersBakeOptions{});
+    EXPECT_TRUE(r) << r.error().message;
+    return r ? r->layers.at(0) : LayerStats{};
+  };
+  // A sphere proxy centred on the north pole: that vertex alone has no
+  // mapping; one bilinear lookup per other vertex, none outside.
+  Expected<Proxy> sphere = make_proxy(SphereParams{{0, 0, 1}, 2, {0, 0, 1}, Vec3{1, 0, 0}});
+  ASSERT_TRUE(sphere);
+  LayerStats s = stats(proxy_layer(image, *sphere, VertexFilter::kBilinear));
+  EXPECT_EQ(s.unmapped, 1u);
+  EXPECT_EQ(s.lookups, n - 1);
+  EXPECT_EQ(s.outside, 0u);
+  EXPECT_EQ(s.hidden, 0u);
+  // The area filter: 5 lookups per vertex (every vertex has a share).
+  s = stats(proxy_layer(image, *sphere, VertexFilter::kArea, 5));
+  EXPECT_EQ(s.lookups, 5 * (n - 1));
+  // A plane over x in [0, 1], clamped: the vertices with x < 0 look up
+  // outside its domain (those at phi = 3 pi / 2 have x = -2e-16 from the
+  // cosine's rounding: on the domain's edge, inside).
+  Expected<Proxy> half = make_proxy(PlaneParams{{0, -1, 0}, {1, 0, 0}, {0, 2, 0}});
+  ASSERT_TRUE(half);
+  std::size_t west = 0;
+  for (const Float3& p : mesh.positions) west += p.x < -1e-6f;
+  ASSERT_EQ(west, 81u);  // 9 rings of 9 vertices with phi in (pi / 2, 3 pi / 2)
+  s = stats(proxy_layer(image, *half, VertexFilter::kBilinear));
+  EXPECT_EQ(s.lookups, n);
+  EXPECT_EQ(s.outside, west);
+  EXPECT_EQ(s.unmapped, 0u);
+  // The plane over the whole sphere projecting along +z, with visibility:
+  // the southern rings (6 to 9) and the south pole are behind the northern
+  // half (81 vertices); the 20 on the equator graze it either way.
+  Expected<Proxy> full = make_proxy(PlaneParams{{-1, -1, 0}, {2, 0, 0}, {0, 2, 0}});
+  ASSERT_TRUE(full);
+  LayerInput seen = proxy_layer(image, *full, VertexFilter::kBilinear);
+  seen.visibility = LayerVisibility::kFirst;
+  s = stats(seen);
+  EXPECT_GE(s.hidden, 81u);
+  EXPECT_LE(s.hidden, 101u);
+  EXPECT_EQ(s.visible, n - s.hidden);
+  EXPECT_EQ(s.lookups, s.visible);  // hidden vertices take no lookup
 }
 
 }  // namespace

@@ -8,8 +8,8 @@
 
 #include <cmath>
 
-#include "bake/atlas/bake_atlas.h"
-#include "bake/layers/layers_bake.h"
+#include "bake/engine/bake_atlas.h"
+#include "bake/engine/layers_bake.h"
 #include "tests/bake/test_meshes.h"
 
 namespace texbake {

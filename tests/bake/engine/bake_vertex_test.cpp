@@ -2,7 +2,7 @@
 // forward map, with expected colours computed independently: an image that is
 // an analytic function of pixel position, the test's own bilinear sampler, and
 // a dense quadrature of the vertex's share of its triangles.
-#include "bake/vertex/bake_vertex.h"
+#include "bake/engine/bake_vertex.h"
 
 #include <gtest/gtest.h>
 
