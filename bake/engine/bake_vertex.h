@@ -81,8 +81,9 @@ struct VertexBakeResult {
   VertexBakeTimings timings;
 };
 
-// Preconditions: image has at least 1x1 pixel; mesh.triangles index
-// mesh.positions. Errors: kInternal (Embree or the fill solver failed),
+// Preconditions: mesh.triangles index mesh.positions. Errors:
+// kInvalidArgument (an empty image; kArea with samples < 1), kParse (a
+// tiled image's tiles could not be read), kInternal (Embree or the fill solver failed),
 // kCancelled (progress's callback returned false: the remaining chunks are
 // skipped). progress may be null; it hears the stage "bake".
 Expected<VertexBakeResult> bake_vertex(const MeshData& mesh, const ImageView& image,

@@ -110,7 +110,7 @@ struct Prepared {
 };
 
 // Where the points come from, for the area and EWA filters: the vertex
-// target's vertices (point i is vertex i), or the atlas's supersamples.
+// target's vertices (point i is vertex(i)), or the atlas's supersamples.
 struct PointFrame {
   const MeshData* mesh = nullptr;
   bool vertices = false;                 // the vertex target
@@ -537,8 +537,10 @@ uint64_t morton2(uint32_t x, uint32_t y) {
   return spread(x) | (spread(y) << 1);
 }
 
-// A texture read in tiles (--cache-mb): the vertex target visits the
-// vertices in the order of their place in the first such layer's image, so
+// A texture read in tiles (--cache-mb): the single projection's vertex
+// target (ResultAlpha::kImage; a stack's mean alphas are sums in block
+// order, kept as they are) visits the vertices in the order of their place
+// in the layer's image, so
 // that neighbouring lookups share tiles and each tile of the file is read
 // about once, not once per visit of a scattered vertex order (a subdivided
 // mesh appends its new vertices level by level). Every vertex's colour is
@@ -612,6 +614,9 @@ Status check_single_projection(const std::vector<LayerInput>& layers,
   if (layers.size() != 1) return refuse("takes exactly one layer");
   const LayerInput& l = layers[0];
   if (l.photos) return refuse("takes a proxy or a camera, not a set of photos");
+  if (l.linear && !l.straight) {
+    return refuse("takes the stored encoding or straight linear light, not premultiplied alpha");
+  }
   if (l.opacity != 1 || l.mask.has_texels() || l.angle_fade || l.mode != LayerMode::kOver) {
     return refuse("takes no opacity, mask, angle fade or blend mode");
   }
@@ -659,7 +664,7 @@ Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
   const bool with_normals = std::any_of(layers.begin(), layers.end(), needs_normals);
   std::vector<Float3> normals;
   if (with_normals) normals = smooth_vertex_normals(mesh);
-  result.seconds_scene = seconds_since(start);
+  if (own_scene || with_normals) result.seconds_scene = seconds_since(start);
 
   // The layers ready, all at once: every block of vertices goes through
   // every layer, so no per-vertex array beyond the colours is held.
@@ -701,7 +706,8 @@ Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
     adjacency = build_adjacency(mesh);
     frame.adjacency = &adjacency;
   }
-  const std::vector<uint32_t> order = visit_order(mesh, prepared);
+  const std::vector<uint32_t> order =
+      image_alpha ? visit_order(mesh, prepared) : std::vector<uint32_t>{};
   const std::size_t layer_count = layers.size();
   // Per block and layer, so that the sums are taken in block order.
   std::vector<LayerCounts> counts(block_count(n, kGrain) * layer_count);
@@ -869,6 +875,10 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   if (layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
   if (Status s = check_padding(options.padding); !s) return s.error();
   const LayersBakeOptions& lo = options.layers;
+  if (lo.alpha != ResultAlpha::kCoverage) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "the layers atlas takes the coverage as alpha (ResultAlpha::kCoverage)");
+  }
   const bool base_texture = lo.base == LayerBase::kMesh && options.base_texture.data;
   const bool base_vertex = lo.base == LayerBase::kMesh && !base_texture;
   if (base_vertex && uv_mesh.vertex_colors.size() != uv_mesh.positions.size()) {
@@ -907,6 +917,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   std::vector<double> fill_seconds(layers.size(), 0.0);
   if (fill) {
     LayersBakeOptions vo = lo;
+    vo.scene = nullptr;  // the vertex target's own, over uv_mesh
     if (base_texture) vo.base = LayerBase::kNone;
     // The fill's per-vertex colours take the bilinear lookup, as the proxy atlas's.
     std::vector<LayerInput> bilinear = layers;

@@ -109,7 +109,7 @@ struct LayerInput {
   //  - kEwa (an analytic proxy only: kInvalidArgument for a camera): the EWA
   //    lookup over the working image's MIP pyramid with the footprint of the
   //    proxy bake: the vertex's share (bake/shade/footprint.h), or the atlas
-  //    supersample's cell (bake/engine/bake_atlas.h cell_tangents).
+  //    supersample's cell (bake/atlas/atlas_common.h cell_tangents).
   // A "cameras" layer is the photo bake's own lookup: kBilinear only.
   VertexFilter filter = VertexFilter::kBilinear;
   int samples = 16;  // kArea: lookups per vertex (>= 1)
@@ -165,10 +165,12 @@ struct LayersBakeOptions {
   // A "cameras" layer's photos that disagree on the mesh are a warning
   // (PhotoBakeOptions::consistency_warning); off with --no-alignment-check.
   bool consistency_warning = true;
-  // The vertex target's alpha and unknown vertices (ResultAlpha).
+  // The vertex target's alpha and unknown vertices (ResultAlpha; the atlas
+  // target takes kCoverage only).
   ResultAlpha alpha = ResultAlpha::kCoverage;
-  // A scene already built over the mesh (EmbreeScene::build) for the
-  // visibility rays, instead of building one; not owned. The same results.
+  // The vertex target: a scene already built over the mesh
+  // (EmbreeScene::build) for the visibility rays, instead of building one;
+  // not owned. The same results. The atlas target ignores it.
   const EmbreeScene* scene = nullptr;
 };
 
@@ -191,16 +193,20 @@ struct LayerStats {
 };
 
 struct LayersBakeResult {
-  std::vector<Rgba> colors;  // per vertex, sRGB-encoded RGB, straight alpha = coverage
+  // Per vertex, sRGB-encoded RGB, straight alpha = coverage (ResultAlpha::kImage:
+  // the image's alpha).
+  std::vector<Rgba> colors;
   std::vector<LayerStats> layers;
-  std::size_t uncovered = 0;  // vertices with coverage 0
+  std::size_t uncovered = 0;  // vertices with coverage 0 (kImage: the unknown vertices)
   std::size_t filled = 0;     // of those, coloured by the fill
   std::size_t unfilled = 0;   // of those, in components the fill could not reach
   double seconds_scene = 0, seconds_layers = 0, seconds_fill = 0;
 };
 
 // Errors: kInvalidArgument (no layers; base "mesh" on a mesh without vertex
-// colours; an empty texture), kInternal (Embree, the fill), kCancelled
+// colours; an empty texture; under ResultAlpha::kImage a stack that is not
+// one bare layer in the stored encoding or straight linear light),
+// kParse (a tiled texture's tiles could not be read), kInternal (Embree, the fill), kCancelled
 // (progress's callback returned false: the remaining blocks and the fill
 // are skipped). progress may be null; it hears the stages "bake" (the
 // blocks of vertices through every layer) and "fill", as the proxy vertex
@@ -250,7 +256,7 @@ Expected<LayersBakeResult> bake_vertex_layers_finish(const MeshData& mesh, Layer
 // (bake_vertex_layers; base "none" when the base is the texture)
 // interpolated barycentrically, as the proxy atlas does with its per-vertex
 // fill; under kColor the constant's RGB exactly; alpha stays 0. Padding:
-// pad_atlas (bake/engine/bake_atlas.h) as `padding` says. Layer stats count
+// pad_atlas (bake/atlas/atlas_common.h) as `padding` says. Layer stats count
 // samples (in_domain, visible, blended; mean alpha over all samples).
 // Memory: the atlas, every layer's working image, and one band of samples
 // per thread. Results do not depend on the thread count.

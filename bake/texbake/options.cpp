@@ -205,6 +205,12 @@ Status validate_options(const PhotoBakeOptions& o) {
 }
 
 Status validate_options(const LayersBakeOptions& o) {
+  // The engine's single-projection rule and shared scene are the proxy
+  // bakes' (bake_vertex_colors): a layers job composites by coverage.
+  if (o.alpha != ResultAlpha::kCoverage) {
+    return usage("a layers bake takes the coverage as alpha (ResultAlpha::kCoverage)");
+  }
+  if (o.scene) return usage("a layers bake builds its own scene (scene must be null)");
   if (o.occluded == OccludedMode::kColor) {
     if (Status s = check_rgba(o.occluded_color, 4, "--occluded"); !s) return s;
   }

@@ -16,7 +16,7 @@
 //                "undefined", "outside", "padded"},
 //    "atlas":   atlas target only: {"uv": "mesh" | "proxy" | "generate",
 //                "size", "samples_per_texel", "padding": texels | "inf" (the
-//                default's rings; it push-pulls the rest, bake/engine/bake_atlas.h),
+//                default's rings; it push-pulls the rest, bake/atlas/atlas_common.h),
 //                "counts": {"texels", "samples", "border_samples", "occluded",
 //                           "undefined", "outside", "padded"},
 //                uv mesh: "uv_check": {"corners_outside", "overlap_texels"},

@@ -1,8 +1,9 @@
 // The filtered lookup of one vertex (SPEC section 4, --filter): the one
 // implementation of the vertex target's bilinear, area and EWA filters,
-// through any projector, shared by the single-proxy vertex bake
-// (bake/engine/bake_vertex.cpp) and the layers engine's vertex target
-// (bake/engine/layers_bake.cpp), so both filter a vertex the same way.
+// through any projector: the engine's vertex target's
+// (bake/engine/layers_bake.cpp), and through it the single-proxy vertex
+// bake's (bake/engine/bake_vertex.cpp), so every bake filters a vertex the
+// same way.
 //
 //  - kEwa: one lookup at the vertex through rule.project() with the
 //    footprint of the vertex's share of its triangles (a third of each,

@@ -2,9 +2,8 @@
 // triangle (v, a, b) the quad v, (v+a)/2, centroid, (v+b)/2, one third of
 // the triangle (the shares of a triangle's three vertices tile it). The
 // vertex area filter spreads its samples over it and the EWA filter takes
-// it as the vertex's footprint on the surface; the proxy vertex bake
-// (bake/engine/bake_vertex.h) and the layers engine (bake/engine/layers_bake.h) both call
-// these, so both filter a vertex the same way.
+// it as the vertex's footprint on the surface. The engine's vertex filter
+// (bake/vertex/vertex_filter.h) calls these for every bake.
 #pragma once
 
 #include <cstdint>

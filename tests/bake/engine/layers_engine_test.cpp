@@ -337,6 +337,48 @@ TEST(LayersEngine, SingleProjectionRuleTakesOneBareLayer) {
   LayersBakeOptions based = single;
   based.base = LayerBase::kColor;
   EXPECT_TRUE(refused({bare}, based));
+  LayerInput premultiplied = bare;  // linear light, but not straight
+  premultiplied.linear = true;
+  EXPECT_TRUE(refused({premultiplied}, single));
+  premultiplied.straight = true;  // --linear's working space
+  EXPECT_TRUE(bake_vertex_layers(mesh, {premultiplied}, single));
+  // The atlas target composites by coverage only.
+  std::vector<Float2> uvs;
+  for (const Float3& p : mesh.positions) uvs.push_back({0.5f + 0.4f * p.x, 0.5f + 0.4f * p.y});
+  LayersAtlasOptions atlas;
+  atlas.size = 16;
+  atlas.layers = single;
+  Expected<LayersAtlasResult> a =
+      bake_atlas_layers(mesh_with_triangle_uvs(mesh, uvs, mesh.triangles), {bare}, atlas);
+  ASSERT_FALSE(a);
+  EXPECT_EQ(a.error().code, ErrorCode::kInvalidArgument);
+}
+
+TEST(LayersEngine, ProxyVertexBakeIsTheSameOverASharedScene) {
+  // The atlas's fill passes its scene to the vertex bake: the same colours
+  // and counts as the bake that builds its own (a grid shadows the sphere).
+  MeshData mesh = test::uv_sphere({0, 0, 0}, 1, 20, 40);
+  test::append_grid(mesh, 8, 8, [](double s, double t) {
+    return Float3{static_cast<float>(s - 0.5), static_cast<float>(t - 0.5), 1.5f};
+  });
+  test::faces_from_triangles(mesh);
+  Expected<Proxy> plane = make_proxy(PlaneParams{{-1, -1, 0}, {2, 0, 0}, {0, 2, 0}});
+  ASSERT_TRUE(plane);
+  const std::vector<float> px = detailed_image(32, 32);
+  const ImageView image{32, 32, px.data(), ColorSpace::kSrgb};
+  Expected<EmbreeScene> scene = EmbreeScene::build(mesh, BuildQuality::kLow);
+  ASSERT_TRUE(scene);
+  VertexBakeOptions o;
+  Expected<VertexBakeResult> own = bake_vertex(mesh, image, *plane, o);
+  Expected<VertexBakeStage> stage = bake_vertex_sample(mesh, image, *plane, o, nullptr, &*scene);
+  ASSERT_TRUE(own && stage);
+  Expected<VertexBakeResult> shared = bake_vertex_finish(mesh, std::move(stage).value());
+  ASSERT_TRUE(shared);
+  EXPECT_GT(own->counts.occluded, mesh.positions.size() / 3);  // the southern half and more
+  EXPECT_EQ(own->counts.occluded, shared->counts.occluded);
+  EXPECT_EQ(own->counts.samples, shared->counts.samples);
+  EXPECT_EQ(own->colors, shared->colors);
+  EXPECT_EQ(shared->timings.scene_build, 0.0);  // nothing built
 }
 
 TEST(LayersEngine, VertexStatsCountLookupsOutsideHiddenAndUnmapped) {

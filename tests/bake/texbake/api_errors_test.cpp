@@ -100,6 +100,18 @@ TEST(ApiErrors, UsageErrorsComeBeforeTheMeshsProblem) {
   EXPECT_EQ(v.error().message, "--samples 0 is out of range (1 .. 65536)");
 }
 
+TEST(ApiErrors, LayersOptionsRefuseTheSingleProjectionRuleAndASharedScene) {
+  // The engine's ResultAlpha::kImage and shared scene are the proxy bake's
+  // own: a layers job composites by coverage over a scene it builds.
+  LayersBakeOptions lo;
+  EXPECT_TRUE(validate_options(lo));
+  lo.alpha = ResultAlpha::kImage;
+  Status s = validate_options(lo);
+  ASSERT_FALSE(s);
+  EXPECT_EQ(category(s.error()), ErrorCategory::kUsage);
+  EXPECT_NE(s.error().message.find("coverage"), std::string::npos) << s.error().message;
+}
+
 TEST(ApiErrors, ValidateOptionsNamesTheFlag) {
   VertexBakeOptions vo;
   EXPECT_TRUE(validate_options(vo));
