@@ -172,6 +172,40 @@ float fade(const Prepared& layer, double cosine) {
   return static_cast<float>(std::clamp((a1 - theta) / (a1 - a0), 0.0, 1.0));
 }
 
+// Clears seen[i] for the points whose way to the layer's projector is
+// blocked: the segment to a camera's centre, or the ray towards a proxy
+// (points: the block's m = seen.size() points; maps: their mappings).
+void trace_seen(const Prepared& layer, const Vec3* points, const std::vector<MapResult>& maps,
+                const EmbreeScene& scene, double offset, std::vector<uint8_t>& seen) {
+  const std::size_t m = seen.size();
+  if (layer.camera) {
+    std::vector<Vec3> ps;
+    std::vector<std::size_t> slot;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (seen[i]) ps.push_back(points[i]), slot.push_back(i);
+    }
+    SegmentScratch scratch;
+    std::vector<uint8_t> occluded(ps.size(), 0);
+    occluded_segments(scene, offset, ps, layer.camera->centre(), scratch, occluded.data());
+    for (std::size_t k = 0; k < ps.size(); ++k) {
+      if (occluded[k]) seen[slot[k]] = 0;
+    }
+  } else {
+    VisibilityBatch batch;
+    std::vector<std::size_t> slot;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (!seen[i]) continue;
+      batch.add(points[i], maps[i].to_projector);
+      slot.push_back(i);
+    }
+    std::vector<uint8_t> visible(slot.size(), 0);
+    if (!slot.empty()) batch.trace(scene, offset, visible.data());
+    for (std::size_t k = 0; k < slot.size(); ++k) {
+      if (!visible[k]) seen[slot[k]] = 0;
+    }
+  }
+}
+
 // Contributions of one layer for the points [begin, end): positions and
 // normals (any length; a zero normal gives the angle fade cos 1).
 template <class Map, class Jacobian>
@@ -198,32 +232,7 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
     }
   }
   if (scene && in.visibility == LayerVisibility::kFirst) {
-    if (layer.camera) {
-      std::vector<Vec3> ps;
-      std::vector<std::size_t> slot;
-      for (std::size_t i = 0; i < m; ++i) {
-        if (seen[i]) ps.push_back(points[begin + i]), slot.push_back(i);
-      }
-      SegmentScratch scratch;
-      std::vector<uint8_t> occluded(ps.size(), 0);
-      occluded_segments(*scene, offset, ps, layer.camera->centre(), scratch, occluded.data());
-      for (std::size_t k = 0; k < ps.size(); ++k) {
-        if (occluded[k]) seen[slot[k]] = 0;
-      }
-    } else {
-      VisibilityBatch batch;
-      std::vector<std::size_t> slot;
-      for (std::size_t i = 0; i < m; ++i) {
-        if (!seen[i]) continue;
-        batch.add(points[begin + i], maps[i].to_projector);
-        slot.push_back(i);
-      }
-      std::vector<uint8_t> visible(slot.size(), 0);
-      if (!slot.empty()) batch.trace(*scene, offset, visible.data());
-      for (std::size_t k = 0; k < slot.size(); ++k) {
-        if (!visible[k]) seen[slot[k]] = 0;
-      }
-    }
+    trace_seen(layer, points + begin, maps, *scene, offset, seen);
   }
   for (std::size_t i = 0; i < m; ++i) {
     Contribution& c = out[begin + i];
@@ -627,6 +636,171 @@ Status check_single_projection(const std::vector<LayerInput>& layers,
   return ok_status();
 }
 
+// The scene the layers' visibility rays go through: `shared` when given,
+// else one built over the mesh when some layer traces rays; none otherwise.
+struct StackScene {
+  std::optional<EmbreeScene> own;
+  const EmbreeScene* shared = nullptr;
+  double offset = 0;
+  // Not a stored pointer: the struct is moved, and `own` with it.
+  const EmbreeScene* scene() const { return own ? &*own : shared; }
+};
+Expected<StackScene> stack_scene(const MeshData& mesh, const std::vector<LayerInput>& layers,
+                                 const EmbreeScene* shared) {
+  StackScene out;
+  if (std::none_of(layers.begin(), layers.end(), needs_scene)) return out;
+  if (shared) {
+    out.shared = shared;
+  } else {
+    Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
+    if (!built) return built.error();
+    out.own.emplace(std::move(built).value());
+  }
+  out.offset = visibility_offset(*out.scene());
+  return out;
+}
+
+// Every layer prepared (prepare) in the stack's working space, and the
+// seconds each took.
+Expected<std::vector<std::unique_ptr<Prepared>>> prepare_stack(
+    const std::vector<LayerInput>& layers, bool linear, std::size_t vertex_count,
+    const LayersBakeOptions& options, std::vector<double>& seconds) {
+  const bool image_alpha = options.alpha == ResultAlpha::kImage;
+  std::vector<std::unique_ptr<Prepared>> prepared;
+  for (const LayerInput& in : layers) {
+    const auto layer_start = Clock::now();
+    Expected<std::unique_ptr<Prepared>> p = prepare(in, linear, vertex_count);
+    if (!p) return p.error();
+    prepared.push_back(std::move(p).value());
+    prepared.back()->image_alpha = image_alpha;
+    prepared.back()->project_hidden = image_alpha && options.occluded == OccludedMode::kProject;
+    seconds.push_back(seconds_since(layer_start));
+  }
+  return prepared;
+}
+
+// The vertex target's base per vertex: straight colour (the stack's working
+// space) and coverage; ResultAlpha::kImage starts from opaque black.
+std::vector<Rgba> vertex_base(const MeshData& mesh, const LayersBakeOptions& options, bool linear) {
+  const std::size_t n = mesh.positions.size();
+  std::vector<Rgba> colour(n, Rgba{0, 0, 0, options.alpha == ResultAlpha::kImage ? 1.f : 0.f});
+  if (options.base == LayerBase::kColor) {
+    std::fill(colour.begin(), colour.end(), to_work(options.base_color, linear));
+  } else if (options.base == LayerBase::kMesh) {
+    for (std::size_t v = 0; v < n; ++v) {
+      const auto& c = mesh.vertex_colors[v];
+      colour[v] = to_work(Rgba{c[0], c[1], c[2], c[3]}, linear);
+    }
+  }
+  return colour;
+}
+
+// What the vertex target's blocks read and write.
+struct VertexPass {
+  const MeshData* mesh = nullptr;
+  const std::vector<LayerInput>* layers = nullptr;
+  const std::vector<std::unique_ptr<Prepared>>* prepared = nullptr;
+  const StackScene* scene = nullptr;
+  const std::vector<Float3>* normals = nullptr;  // empty: no layer reads them
+  PointFrame frame;                              // mesh, adjacency
+  const std::vector<uint32_t>* order = nullptr;  // empty: index order
+  bool image_alpha = false;
+  std::vector<Rgba>* colour = nullptr;
+  std::vector<uint8_t>* state = nullptr;       // ResultAlpha::kImage: PointState per vertex
+  std::vector<LayerCounts>* counts = nullptr;  // per block and layer
+};
+
+// One block of vertices through every layer: composited (coverage), or
+// the single projection's lookup and state (ResultAlpha::kImage).
+void vertex_block(const VertexPass& pass, std::size_t block, std::size_t begin, std::size_t end) {
+  const MeshData& mesh = *pass.mesh;
+  const std::size_t m = end - begin, layer_count = pass.layers->size();
+  PointFrame frame = pass.frame;
+  frame.first_vertex = begin;
+  if (!pass.order->empty()) frame.vertex_ids = pass.order->data() + begin;
+  const bool with_normals = !pass.normals->empty();
+  std::vector<Vec3> points(m), point_normals(m);
+  std::vector<Contribution> contribution(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::size_t v = frame.vertex(i);
+    points[i] = vec(mesh.positions[v]);
+    if (with_normals) point_normals[i] = vec((*pass.normals)[v]);
+  }
+  std::vector<Rgba>& colour = *pass.colour;
+  for (std::size_t l = 0; l < layer_count; ++l) {
+    const auto layer_start = Clock::now();
+    LayerCounts& c = (*pass.counts)[block * layer_count + l];
+    contributions(*(*pass.prepared)[l], frame, points.data(), point_normals.data(),
+                  pass.scene->scene(), pass.scene->offset, 0, m, contribution.data(), c);
+    if (pass.image_alpha) {  // the lookup itself, alpha included
+      for (std::size_t i = 0; i < m; ++i) {
+        const std::size_t v = frame.vertex(i);
+        const Contribution& k = contribution[i];
+        (*pass.state)[v] = k.state;
+        if (k.coloured) colour[v] = {k.rgb[0], k.rgb[1], k.rgb[2], k.a};
+      }
+    } else {
+      // Composite (straight colour B, coverage alpha) in the stack's working space.
+      const LayerMode mode = (*pass.layers)[l].mode;
+      for (std::size_t i = 0; i < m; ++i) composite(mode, contribution[i], colour[frame.vertex(i)]);
+    }
+    c.seconds += seconds_since(layer_start);
+  }
+}
+
+// The unknown vertices and how they are resolved (bake/vertex/vertex_resolve.h):
+// under ResultAlpha::kImage the hidden ones unless projected and those
+// without a mapping, alpha a colour channel, unanchored components taking
+// the projected colour or the image's mean (never black, never arbitrary;
+// `fallback` counts the lookups); otherwise the uncovered ones, the fill
+// over their RGB (alpha stays 0) or a constant's RGB (a component no
+// layer covers: transparent black under the fill).
+VertexResolvePlan plan_unknown(const VertexPass& pass, const LayersBakeOptions& options,
+                               bool linear, LayerCounts& fallback, std::size_t& unknown_count) {
+  const MeshData& mesh = *pass.mesh;
+  const std::size_t n = mesh.positions.size();
+  std::vector<Rgba>& colour = *pass.colour;
+  std::vector<uint8_t> unknown(n, 0);
+  VertexResolve how;
+  how.fill = options.occluded != OccludedMode::kColor;
+  how.linear = linear;
+  std::optional<Rgba> mean;
+  VertexShare share;
+  if (pass.image_alpha) {
+    const std::vector<uint8_t>& state = *pass.state;
+    const bool project = options.occluded == OccludedMode::kProject;
+    for (std::size_t v = 0; v < n; ++v) {
+      unknown[v] = state[v] == kUnmapped || (state[v] == kHidden && !project);
+    }
+    how.constant = options.occluded_color;
+    const Prepared& layer = *pass.prepared->front();
+    how.fallback = [&](uint32_t v) -> Rgba {
+      if (state[v] == kHidden) {
+        std::optional<Rgba> c;
+        with_projector(layer, [&](const auto& map, const auto& jacobian) {
+          const Vec3 p = vec(mesh.positions[v]);
+          const MapResult r = map(p);
+          if (r.status == MapStatus::kUndefined) return;
+          PointFrame one = pass.frame;
+          one.first_vertex = v;
+          c = filtered(layer, map, jacobian, one, 0, p, r, share, fallback.filter);
+        });
+        if (c) return *c;
+      }
+      if (!mean) mean = image_mean(layer.view);
+      return *mean;
+    };
+  } else {
+    for (std::size_t v = 0; v < n; ++v) unknown[v] = colour[v][3] > 0 ? 0 : 1;
+    how.constant = how.fill ? Rgba{0, 0, 0, 0} : options.occluded_color;
+    how.coverage = true;
+  }
+  unknown_count = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 1));
+  VertexResolvePlan plan = plan_resolve(mesh, colour, unknown, std::move(how));
+  plan.how.fallback = nullptr;  // it refers to this frame: not past it
+  return plan;
+}
+
 }  // namespace
 
 Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
@@ -645,53 +819,24 @@ Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
   LayersVertexStage stage;
   LayersBakeResult& result = stage.result;
   auto start = Clock::now();
-  std::optional<EmbreeScene> own_scene;
-  const EmbreeScene* scene = nullptr;
-  double offset = 0;
-  if (std::any_of(layers.begin(), layers.end(), needs_scene)) {
-    if (options.scene) {
-      scene = options.scene;
-    } else {
-      Expected<EmbreeScene> built = EmbreeScene::build(mesh, BuildQuality::kLow);
-      if (!built) return built.error();
-      own_scene.emplace(std::move(built).value());
-      scene = &*own_scene;
-    }
-    offset = visibility_offset(*scene);
-  }
+  Expected<StackScene> scene = stack_scene(mesh, layers, options.scene);
+  if (!scene) return scene.error();
   // The smooth normals, where a layer reads them (a camera's facing test,
   // an angle fade); otherwise every point's normal is zero (cosine 1).
   const bool with_normals = std::any_of(layers.begin(), layers.end(), needs_normals);
   std::vector<Float3> normals;
   if (with_normals) normals = smooth_vertex_normals(mesh);
-  if (own_scene || with_normals) result.seconds_scene = seconds_since(start);
+  if (scene->own || with_normals) result.seconds_scene = seconds_since(start);
 
   // The layers ready, all at once: every block of vertices goes through
   // every layer, so no per-vertex array beyond the colours is held.
   start = Clock::now();
   const bool linear = stack_linear(layers);
-  std::vector<std::unique_ptr<Prepared>> prepared;
   std::vector<double> prepare_seconds;
-  for (const LayerInput& in : layers) {
-    const auto layer_start = Clock::now();
-    Expected<std::unique_ptr<Prepared>> p = prepare(in, linear, n);
-    if (!p) return p.error();
-    prepared.push_back(std::move(p).value());
-    prepared.back()->image_alpha = image_alpha;
-    prepared.back()->project_hidden = image_alpha && options.occluded == OccludedMode::kProject;
-    prepare_seconds.push_back(seconds_since(layer_start));
-  }
-  // The base: straight colour (the stack's working space) and coverage.
-  std::vector<Rgba> colour(n, Rgba{0, 0, 0, image_alpha ? 1.f : 0.f});
-  if (options.base == LayerBase::kColor) {
-    std::fill(colour.begin(), colour.end(), to_work(options.base_color, linear));
-  } else if (options.base == LayerBase::kMesh) {
-    for (std::size_t v = 0; v < n; ++v) {
-      const auto& c = mesh.vertex_colors[v];
-      colour[v] = to_work(Rgba{c[0], c[1], c[2], c[3]}, linear);
-    }
-  }
-  // ResultAlpha::kImage: what the layer decided per vertex (PointState).
+  Expected<std::vector<std::unique_ptr<Prepared>>> prepared =
+      prepare_stack(layers, linear, n, options, prepare_seconds);
+  if (!prepared) return prepared.error();
+  std::vector<Rgba> colour = vertex_base(mesh, options, linear);
   std::vector<uint8_t> state;
   if (image_alpha) state.assign(n, kUnmapped);
   // The area and EWA filters' vertex shares.
@@ -699,108 +844,40 @@ Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
     return !l.photos && l.filter != VertexFilter::kBilinear;
   });
   Adjacency adjacency;
-  PointFrame frame;
-  frame.mesh = &mesh;
-  frame.vertices = true;
-  if (shares) {
-    adjacency = build_adjacency(mesh);
-    frame.adjacency = &adjacency;
-  }
+  if (shares) adjacency = build_adjacency(mesh);
   const std::vector<uint32_t> order =
-      image_alpha ? visit_order(mesh, prepared) : std::vector<uint32_t>{};
-  const std::size_t layer_count = layers.size();
+      image_alpha ? visit_order(mesh, *prepared) : std::vector<uint32_t>{};
   // Per block and layer, so that the sums are taken in block order.
-  std::vector<LayerCounts> counts(block_count(n, kGrain) * layer_count);
+  std::vector<LayerCounts> counts(block_count(n, kGrain) * layers.size());
+  VertexPass pass;
+  pass.mesh = &mesh;
+  pass.layers = &layers;
+  pass.prepared = &*prepared;
+  pass.scene = &*scene;
+  pass.normals = &normals;
+  pass.frame.mesh = &mesh;
+  pass.frame.vertices = true;
+  pass.frame.adjacency = shares ? &adjacency : nullptr;
+  pass.order = &order;
+  pass.image_alpha = image_alpha;
+  pass.colour = &colour;
+  pass.state = &state;
+  pass.counts = &counts;
   const double pass_start = seconds_since(start);
   if (progress) progress->start("bake", n);
   parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
     if (is_cancelled(progress)) return;
-    const std::size_t m = end - begin;
-    PointFrame block_frame = frame;
-    block_frame.first_vertex = begin;
-    if (!order.empty()) block_frame.vertex_ids = order.data() + begin;
-    std::vector<Vec3> points(m), point_normals(m);
-    std::vector<Contribution> contribution(m);
-    for (std::size_t i = 0; i < m; ++i) {
-      const std::size_t v = block_frame.vertex(i);
-      points[i] = vec(mesh.positions[v]);
-      if (with_normals) point_normals[i] = vec(normals[v]);
-    }
-    for (std::size_t l = 0; l < layer_count; ++l) {
-      const auto layer_start = Clock::now();
-      LayerCounts& c = counts[block * layer_count + l];
-      contributions(*prepared[l], block_frame, points.data(), point_normals.data(), scene, offset,
-                    0, m, contribution.data(), c);
-      if (image_alpha) {  // the lookup itself, alpha included
-        for (std::size_t i = 0; i < m; ++i) {
-          const std::size_t v = block_frame.vertex(i);
-          const Contribution& k = contribution[i];
-          state[v] = k.state;
-          if (k.coloured) colour[v] = {k.rgb[0], k.rgb[1], k.rgb[2], k.a};
-        }
-      } else {
-        // Composite (straight colour B, coverage alpha) in the stack's working space.
-        const LayerMode mode = layers[l].mode;
-        for (std::size_t i = 0; i < m; ++i) {
-          composite(mode, contribution[i], colour[block_frame.vertex(i)]);
-        }
-      }
-      c.seconds += seconds_since(layer_start);
-    }
-    if (progress) progress->advance(m);
+    vertex_block(pass, block, begin, end);
+    if (progress) progress->advance(end - begin);
   });
   if (is_cancelled(progress)) return cancelled_error();
   if (progress) progress->finish();
-  own_scene.reset();  // the BVH is not needed any more: free it before the fill
+  scene->own.reset();  // the BVH is not needed any more: free it before the fill
   result.seconds_layers = seconds_since(start);
 
-  // The unknown vertices and their fate (bake/vertex/vertex_resolve.h).
   start = Clock::now();
-  std::vector<uint8_t> unknown(n, 0);
-  VertexResolve how;
-  how.fill = options.occluded != OccludedMode::kColor;
-  how.linear = linear;
   LayerCounts fallback;
-  std::optional<Rgba> mean;
-  VertexShare share;
-  if (image_alpha) {
-    // Hidden vertices unless projected, and those without a mapping;
-    // alpha is a colour channel.
-    const bool project = options.occluded == OccludedMode::kProject;
-    for (std::size_t v = 0; v < n; ++v) {
-      unknown[v] = state[v] == kUnmapped || (state[v] == kHidden && !project);
-    }
-    how.constant = options.occluded_color;
-    // Unanchored components take the projected colour; vertices without
-    // any mapping the image's mean (never black, never arbitrary).
-    const Prepared& layer = *prepared[0];
-    how.fallback = [&](uint32_t v) -> Rgba {
-      if (state[v] == kHidden) {
-        std::optional<Rgba> c;
-        with_projector(layer, [&](const auto& map, const auto& jacobian) {
-          const Vec3 p = vec(mesh.positions[v]);
-          const MapResult r = map(p);
-          if (r.status == MapStatus::kUndefined) return;
-          PointFrame one = frame;
-          one.first_vertex = v;
-          c = filtered(layer, map, jacobian, one, 0, p, r, share, fallback.filter);
-        });
-        if (c) return *c;
-      }
-      if (!mean) mean = image_mean(layer.view);
-      return *mean;
-    };
-  } else {
-    // Uncovered vertices: the fill over their RGB (alpha stays 0), or a
-    // constant's RGB. (A component no layer covers: transparent black
-    // under the fill.)
-    for (std::size_t v = 0; v < n; ++v) unknown[v] = colour[v][3] > 0 ? 0 : 1;
-    how.constant = how.fill ? Rgba{0, 0, 0, 0} : options.occluded_color;
-    how.coverage = true;
-  }
-  result.uncovered = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 1));
-  stage.plan = plan_resolve(mesh, colour, unknown, std::move(how));
-  stage.plan.how.fallback = nullptr;  // it refers to this frame: not past it
+  stage.plan = plan_unknown(pass, options, linear, fallback, result.uncovered);
   result.filled = stage.plan.plan.result.filled;
   result.unfilled = stage.plan.plan.result.unfilled;
   result.layers =
@@ -931,14 +1008,8 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   result.seconds_fill = seconds_since(start);
 
   start = Clock::now();
-  std::optional<EmbreeScene> scene;
-  double offset = 0;
-  if (std::any_of(layers.begin(), layers.end(), needs_scene)) {
-    Expected<EmbreeScene> built = EmbreeScene::build(uv_mesh, BuildQuality::kLow);
-    if (!built) return built.error();
-    scene.emplace(std::move(built).value());
-    offset = visibility_offset(*scene);
-  }
+  Expected<StackScene> scene = stack_scene(uv_mesh, layers, nullptr);
+  if (!scene) return scene.error();
   const std::vector<Float3> normals = smooth_vertex_normals(uv_mesh);
   std::vector<float> base_premultiplied;
   ImageView base_view;
@@ -1026,8 +1097,8 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
         }
         PointFrame band_frame = frame;
         band_frame.triangles = r.sample_triangle.data();
-        contributions(*prepared[l], band_frame, w.points.data(), w.normals.data(),
-                      scene ? &*scene : nullptr, offset, 0, m, w.contribution.data(), c,
+        contributions(*prepared[l], band_frame, w.points.data(), w.normals.data(), scene->scene(),
+                      scene->offset, 0, m, w.contribution.data(), c,
                       layers[l].photos ? w.ids.data() : nullptr);
         const LayerMode mode = layers[l].mode;
         for (std::size_t s = 0; s < m; ++s) composite(mode, w.contribution[s], w.colour[s]);
@@ -1086,7 +1157,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
                       "a cameras layer's photo blend does not cover this atlas's texels");
   }
   if (progress) progress->finish();
-  scene.reset();
+  scene->own.reset();
   for (std::size_t band = 0; band < band_count; ++band) {
     result.texels += band_texels[band];
     result.samples += band_samples[band];
