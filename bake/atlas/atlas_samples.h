@@ -28,6 +28,16 @@ struct SurfaceSample {
   Vec3 p, n, face;
 };
 
+// The point at barycentrics (1 - b1 - b2, b1, b2) of `triangle` of mesh
+// (surface_sample's p, the same bits).
+inline Vec3 surface_point(const MeshData& mesh, uint32_t triangle, double b1, double b2) {
+  const auto vec = [](Float3 f) { return Vec3{f.x, f.y, f.z}; };
+  const auto& tri = mesh.triangles[triangle];
+  const double b0 = 1 - b1 - b2;
+  return vec(mesh.positions[tri[0]]) * b0 + vec(mesh.positions[tri[1]]) * b1 +
+         vec(mesh.positions[tri[2]]) * b2;
+}
+
 // The sample at barycentrics (1 - b1 - b2, b1, b2) of `triangle` of mesh;
 // normals: the mesh's smooth vertex normals (mesh_io/vertex_normals.h).
 inline SurfaceSample surface_sample(const MeshData& mesh, const std::vector<Float3>& normals,
@@ -38,7 +48,7 @@ inline SurfaceSample surface_sample(const MeshData& mesh, const std::vector<Floa
   const Vec3 a = vec(mesh.positions[tri[0]]), b = vec(mesh.positions[tri[1]]),
              c = vec(mesh.positions[tri[2]]);
   SurfaceSample out;
-  out.p = a * b0 + b * b1 + c * b2;
+  out.p = surface_point(mesh, triangle, b1, b2);
   out.face = cross(b - a, c - a);
   const Vec3 n = vec(normals[tri[0]]) * b0 + vec(normals[tri[1]]) * b1 + vec(normals[tri[2]]) * b2;
   const double len = length(n), face_len = length(out.face);

@@ -1,11 +1,14 @@
-// The atlas target (SPEC section 4, issue #4): bake an image through a proxy
-// into a texture atlas over a mesh's per-corner UV layout.
+// The atlas target (SPEC section 4): bake an image through a proxy into a
+// texture atlas over a mesh's per-corner UV layout. It is the engine's atlas
+// target (bake/engine/layers_bake.h) over a one-layer stack under
+// ResultAlpha::kImage; what follows is that rule for one proxy.
 //
 // Stages (each timed):
 //  1. rasterise (bake/atlas/atlas_raster.h): covered texels (conservative, so no
 //     bilinear lookup from inside a triangle reads an unbaked texel) and
 //     their `samples` supersamples, each with its triangle and barycentrics;
-//  2. sample: each sample's 3D point (barycentric on its triangle) goes
+//  2. sample: each sample's 3D point (barycentric on its triangle, in
+//     double precision) goes
 //     through the proxy's inverse_map and, with Visibility::kFirst, the
 //     visibility ray of bake/trace/visibility.h; visible samples take the bilinear
 //     image sample (kOutside samples follow options.outside); occluded and

@@ -11,30 +11,6 @@
 
 namespace texbake {
 
-namespace {
-
-// The projection as a layer: the image in its stored encoding, straight
-// alpha, or with options.linear in linear light, straight alpha.
-LayerInput proxy_layer(const ImageView& image, const Proxy& proxy,
-                       const VertexBakeOptions& options) {
-  LayerInput in;
-  in.name = "image";
-  in.projector = proxy;
-  in.texture = image;
-  in.visibility =
-      options.visibility == Visibility::kFirst ? LayerVisibility::kFirst : LayerVisibility::kAll;
-  in.outside = options.outside == OutsideMode::kColor ? LayerOutside::kColor : LayerOutside::kClamp;
-  in.outside_color = options.outside_color;
-  in.filter = options.filter;
-  in.samples = options.samples;
-  in.plane_wrap = options.plane_wrap;
-  in.linear = options.linear;
-  in.straight = options.linear;
-  return in;
-}
-
-}  // namespace
-
 Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageView& image,
                                              const Proxy& proxy, const VertexBakeOptions& options,
                                              Progress* progress, const EmbreeScene* shared_scene) {
@@ -43,8 +19,8 @@ Expected<VertexBakeStage> bake_vertex_sample(const MeshData& mesh, const ImageVi
   stack.occluded = options.occluded;
   stack.occluded_color = options.occluded_color;
   stack.scene = shared_scene;
-  Expected<LayersVertexStage> sampled =
-      bake_vertex_layers_sample(mesh, {proxy_layer(image, proxy, options)}, stack, progress);
+  Expected<LayersVertexStage> sampled = bake_vertex_layers_sample(
+      mesh, {single_projection_layer(image, proxy, options)}, stack, progress);
   if (!sampled) return sampled.error();
   LayersBakeResult& layers = sampled->result;
   const LayerStats& layer = layers.layers.front();

@@ -1,8 +1,11 @@
 #include "bake/engine/layers_bake.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <optional>
 
@@ -60,6 +63,9 @@ struct Contribution {
   float a = 0;
   uint8_t state = kUnmapped;
   bool coloured = false;
+  bool seen = false;       // the projector sees it (even if a lookup then found nothing)
+  bool in_domain = false;  // mapped inside the (u, v) domain
+  bool outside = false;    // mapped outside it (a domain with an outside)
 };
 
 struct LayerCounts {
@@ -155,6 +161,9 @@ std::optional<Rgba> filtered(const Prepared& layer, const Map& map, const Jacobi
                          frame.adjacency, static_cast<uint32_t>(frame.vertex(point)), r, share,
                          counts);
   }
+  if (r.status == MapStatus::kOutside && layer.rule.has_outside && layer.rule.outside_constant) {
+    return layer.rule.outside_color;  // the single projection's --outside R,G,B[,A]
+  }
   if (in.filter == VertexFilter::kEwa && frame.triangles && frame.cell > 0) {
     Vec3 t1, t2;
     cell_tangents(*frame.mesh, frame.triangles[point], frame.cell, t1, t2);
@@ -238,13 +247,11 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
     Contribution& c = out[begin + i];
     c = {};
     const MapResult& r = maps[i];
-    if (r.status == MapStatus::kOk) ++counts.in_domain;
-    if (r.status == MapStatus::kUndefined) {
-      ++counts.unmapped;
-      continue;
-    }
+    c.in_domain = r.status == MapStatus::kOk;
+    c.outside = r.status == MapStatus::kOutside && layer.rule.has_outside;
+    if (r.status == MapStatus::kUndefined) continue;
+    c.seen = seen[i] != 0;
     c.state = seen[i] ? kSeen : kHidden;
-    if (seen[i]) ++counts.visible;
     if (layer.image_alpha) {
       // The single projection: the filtered lookup is the RGBA (outside
       // points follow the rule: the constant or the clamped lookup).
@@ -255,20 +262,13 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
           c.rgb = {(*s)[0], (*s)[1], (*s)[2]};
           c.a = (*s)[3];
           c.coloured = true;
-          if (c.a > 0) ++counts.blended;
-          counts.alpha_sum += c.a;
         } else {
           c.state = kUnmapped;
         }
       }
-      if (c.state == kHidden) ++counts.hidden;
-      if (c.state == kUnmapped) ++counts.unmapped;
       continue;
     }
-    if (!seen[i]) {
-      ++counts.hidden;
-      continue;
-    }
+    if (!seen[i]) continue;
     const Vec3& nf = normals[begin + i];
     const double nlen = std::sqrt(nf.x * nf.x + nf.y * nf.y + nf.z * nf.z);
     const double cosine = nlen > 0 ? dot(nf, r.to_projector) / nlen : 1;
@@ -283,7 +283,6 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
                                              points[begin + i], r, share, counts.filter);
       if (!s) {  // the area filter: no sample has a mapping
         c.state = kUnmapped;
-        ++counts.unmapped;
         continue;
       }
       image_alpha = (*s)[3];
@@ -295,15 +294,13 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
     }
     c.a = static_cast<float>(in.opacity) * image_alpha * mask * fade(layer, cosine);
     c.coloured = true;
-    if (c.a > 0) ++counts.blended;
-    counts.alpha_sum += c.a;
   }
 }
 
 // A "cameras" layer's contributions for the points [begin, end): the
 // photo blend of point ids[i] (atlas samples) or of the frame's vertex i.
 void photo_block(const Prepared& layer, const uint32_t* ids, const PointFrame& frame,
-                 std::size_t begin, std::size_t end, Contribution* out, LayerCounts& counts) {
+                 std::size_t begin, std::size_t end, Contribution* out) {
   const LayerInput& in = *layer.input;
   const PhotoPoints& points = ids ? in.photos->samples : in.photos->vertices;
   for (std::size_t i = begin; i < end; ++i) {
@@ -311,19 +308,37 @@ void photo_block(const Prepared& layer, const uint32_t* ids, const PointFrame& f
     Contribution& c = out[i];
     c = {};
     const uint8_t state = points.state[id];
-    if (state != PhotoPoints::kNoView) ++counts.in_domain;
+    c.in_domain = state != PhotoPoints::kNoView;
     if (state != PhotoPoints::kSeen) {
       c.state = state == PhotoPoints::kNoView ? kUnmapped : kHidden;
-      ++(state == PhotoPoints::kNoView ? counts.unmapped : counts.hidden);
       continue;
     }
-    ++counts.visible;
     c.state = kSeen;
+    c.seen = true;
     c.coloured = true;
     c.rgb = points.rgb[id];
     c.a = static_cast<float>(in.opacity) * fade(layer, points.cosine[id]);
-    if (c.a > 0) ++counts.blended;
-    counts.alpha_sum += c.a;
+  }
+}
+
+// A layer's counts of the contributions [0, m), in point order (so the
+// alpha sums do not depend on the thread count). The atlas target counts
+// its lookups here too (one per coloured supersample, and the outside ones
+// among them); the vertex target's are its filter's.
+void tally(const Contribution* c, std::size_t m, LayerCounts& counts, bool atlas) {
+  for (std::size_t i = 0; i < m; ++i) {
+    const Contribution& k = c[i];
+    if (k.in_domain) ++counts.in_domain;
+    if (k.seen) ++counts.visible;
+    if (k.state == kHidden) ++counts.hidden;
+    if (k.state == kUnmapped) ++counts.unmapped;
+    if (!k.coloured) continue;
+    if (k.a > 0) ++counts.blended;
+    counts.alpha_sum += k.a;
+    if (atlas) {
+      ++counts.filter.samples;
+      if (k.outside) ++counts.filter.outside;
+    }
   }
 }
 
@@ -353,7 +368,7 @@ void contributions(const Prepared& layer, const PointFrame& frame, const Vec3* p
                    std::size_t end, Contribution* out, LayerCounts& counts,
                    const uint32_t* sample_ids = nullptr) {
   if (layer.input->photos) {
-    photo_block(layer, sample_ids, frame, begin, end, out, counts);
+    photo_block(layer, sample_ids, frame, begin, end, out);
     return;
   }
   with_projector(layer, [&](const auto& map, const auto& jacobian) {
@@ -732,6 +747,7 @@ void vertex_block(const VertexPass& pass, std::size_t block, std::size_t begin, 
     LayerCounts& c = (*pass.counts)[block * layer_count + l];
     contributions(*(*pass.prepared)[l], frame, points.data(), point_normals.data(),
                   pass.scene->scene(), pass.scene->offset, 0, m, contribution.data(), c);
+    tally(contribution.data(), m, c, false);
     if (pass.image_alpha) {  // the lookup itself, alpha included
       for (std::size_t i = 0; i < m; ++i) {
         const std::size_t v = frame.vertex(i);
@@ -802,6 +818,24 @@ VertexResolvePlan plan_unknown(const VertexPass& pass, const LayersBakeOptions& 
 }
 
 }  // namespace
+
+LayerInput single_projection_layer(const ImageView& image, const Proxy& proxy,
+                                   const VertexBakeOptions& options) {
+  LayerInput in;
+  in.name = "image";
+  in.projector = proxy;
+  in.texture = image;
+  in.visibility =
+      options.visibility == Visibility::kFirst ? LayerVisibility::kFirst : LayerVisibility::kAll;
+  in.outside = options.outside == OutsideMode::kColor ? LayerOutside::kColor : LayerOutside::kClamp;
+  in.outside_color = options.outside_color;
+  in.filter = options.filter;
+  in.samples = options.samples;
+  in.plane_wrap = options.plane_wrap;
+  in.linear = options.linear;
+  in.straight = options.linear;
+  return in;
+}
 
 Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
                                                       const std::vector<LayerInput>& layers,
@@ -920,27 +954,406 @@ Expected<LayersBakeResult> bake_vertex_layers(const MeshData& mesh,
 
 namespace {
 
-// One thread's working memory for a band of atlas samples.
+// Covered texels per batch within a band: large enough to amortise a ray
+// batch, small enough that the batch's points stay in cache.
+constexpr std::size_t kTexelBatch = 1024;
+
+// The single projection's texels with samples to fill when the fill is not
+// computed before the pass: their coloured sum so far and the fill
+// samples' (triangle, b1, b2), finished after it (finish_deferred).
+struct Deferred {
+  struct Texel {
+    uint32_t texel;
+    std::array<double, 4> acc;
+    uint32_t first, count;  // range in samples
+  };
+  struct Sample {
+    uint32_t triangle;
+    float b1, b2;
+  };
+  std::vector<Texel> texels;
+  std::vector<Sample> samples;
+};
+
+// What the atlas pass reads (and the atlas it writes: bands write disjoint
+// rows).
+struct AtlasPass {
+  const MeshData* mesh = nullptr;
+  const std::vector<LayerInput>* layers = nullptr;
+  const std::vector<std::unique_ptr<Prepared>>* prepared = nullptr;
+  const StackScene* scene = nullptr;
+  const std::vector<Float3>* normals = nullptr;  // empty: no layer reads them
+  PointFrame frame;                              // mesh, cell
+  bool image_alpha = false;
+  bool linear = false;
+  bool overlaps = false;  // the raster lists overlap candidates: choose among them
+  std::size_t spt = 1;
+  int size = 0;
+  // kCoverage: the base.
+  LayerBase base = LayerBase::kNone;
+  Rgba base_working{0, 0, 0, 0};
+  bool base_vertex = false;
+  ImageView base_view;  // the mesh's texture (data null: none)
+  // The fill's per-vertex colours (working space); null under kImage when
+  // they are computed after the pass (Deferred); null under kCoverage
+  // when the result takes the constant.
+  const std::vector<Rgba>* fill_colors = nullptr;
+  bool fill = false;                // samples without colour take the fill (else the constant)
+  Rgba occluded_color{0, 0, 0, 1};  // sRGB-encoded, as given
+  Rgba occluded_working{0, 0, 0, 1};
+  float* atlas = nullptr;
+  uint8_t* baked = nullptr;
+};
+
+// One band's totals.
+struct BandTotals {
+  std::size_t uncovered = 0;
+  bool opaque = true;
+};
+
+// One thread's working memory, reused across bands and batches: the hot
+// loop does not allocate once the buffers have grown.
 struct AtlasWorker {
   AtlasRaster band;
   AtlasBandScratch scratch;
+  // Per point of a batch: its samples, then (an overlapping layout) the
+  // further triangles that contain them.
+  std::vector<uint32_t> triangles;
   std::vector<Vec3> points, normals;
-  std::vector<Rgba> colour;  // straight linear colour and coverage per sample
-  std::vector<Contribution> contribution;
-  std::vector<uint32_t> ids;  // a "cameras" layer: the samples' indices in its blend
+  std::vector<Rgba> colour;                // kCoverage: straight colour and coverage
+  std::vector<Contribution> contribution;  // per layer and point, layer-major
+  std::vector<uint32_t> ids;               // a "cameras" layer: the samples' indices in its blend
+  Deferred deferred;
 };
 
-// The band's sample indices in a "cameras" layer's blend (false: the blend
-// does not cover one of the band's texels).
+// The band's sample indices [s0, s1) in a "cameras" layer's blend (false:
+// the blend does not cover one of their texels).
 bool photo_sample_ids(const PhotoLayerPoints& photos, const AtlasRaster& r, std::size_t spt,
-                      std::vector<uint32_t>& ids) {
-  ids.resize(r.texels.size() * spt);
-  for (std::size_t k = 0; k < r.texels.size(); ++k) {
+                      std::size_t k0, std::size_t k1, std::vector<uint32_t>& ids) {
+  ids.resize((k1 - k0) * spt);
+  for (std::size_t k = k0; k < k1; ++k) {
     const uint32_t first = photos.texel_first[r.texels[k]];
     if (first == PhotoLayerPoints::kNoTexel || first + spt > photos.samples.size()) return false;
-    for (std::size_t j = 0; j < spt; ++j) ids[k * spt + j] = static_cast<uint32_t>(first + j);
+    for (std::size_t j = 0; j < spt; ++j)
+      ids[(k - k0) * spt + j] = static_cast<uint32_t>(first + j);
   }
   return true;
+}
+
+// The base under a point of texel t on triangle tri at (b1, b2) (kCoverage).
+Rgba atlas_base(const AtlasPass& pass, std::size_t t, uint32_t tri, double b1, double b2) {
+  if (pass.base == LayerBase::kColor) return pass.base_working;
+  if (pass.base_vertex) {
+    const auto& corners = pass.mesh->triangles[tri];
+    const double w[3] = {1 - b1 - b2, b1, b2};
+    Rgba v{0, 0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      const auto& vc = pass.mesh->vertex_colors[corners[k]];
+      const Rgba c = to_work(Rgba{vc[0], vc[1], vc[2], vc[3]}, pass.linear);
+      for (int ch = 0; ch < 4; ++ch) v[ch] += static_cast<float>(w[k] * c[ch]);
+    }
+    return v;
+  }
+  if (!pass.base_view.data) return {0, 0, 0, 0};
+  // The texel centre's lookup, shared by the texel's samples.
+  const int n = pass.size;
+  const double x = static_cast<double>(t % n), y = static_cast<double>(t / n);
+  const UV uv{(x + 0.5) / n, 1 - (y + 0.5) / n};
+  Rgba s = sample_bilinear(pass.base_view, uv, WrapMode::kClamp, WrapMode::kClamp);
+  if (pass.linear && s[3] > 0) {  // premultiplied: straight (else stored straight)
+    for (int ch = 0; ch < 3; ++ch) s[ch] /= s[3];
+  } else if (pass.linear) {
+    s = {0, 0, 0, 0};
+  } else if (pass.base_view.color_space == ColorSpace::kLinear) {
+    s = linear_to_srgb(s);  // a linear texture in an sRGB-encoded stack
+  }
+  return s;
+}
+
+// The batch's points: samples [s0, s1) of w.band, then the candidate
+// entries [a0, a1); their triangles, positions, normals (where a layer
+// reads them) and, under kCoverage, bases.
+void batch_points(const AtlasPass& pass, AtlasWorker& w, std::size_t s0, std::size_t s1,
+                  std::size_t a0, std::size_t a1) {
+  const AtlasRaster& r = w.band;
+  const std::size_t own = s1 - s0, count = own + (a1 - a0);
+  w.triangles.resize(count);
+  w.points.resize(count);
+  w.normals.resize(count);
+  if (!pass.image_alpha) w.colour.resize(count);
+  const bool with_normals = !pass.normals->empty();
+  for (std::size_t i = 0; i < count; ++i) {
+    const bool alt = i >= own;
+    const std::size_t s = alt ? r.alt_sample[a0 + i - own] : s0 + i;
+    const uint32_t tri = alt ? r.alt_triangle[a0 + i - own] : r.sample_triangle[s];
+    const double b1 = alt ? r.alt_b1[a0 + i - own] : r.sample_b1[s];
+    const double b2 = alt ? r.alt_b2[a0 + i - own] : r.sample_b2[s];
+    w.triangles[i] = tri;
+    if (with_normals) {
+      const SurfaceSample sp = surface_sample(*pass.mesh, *pass.normals, tri, b1, b2);
+      w.points[i] = sp.p;
+      w.normals[i] = sp.n;
+    } else {
+      w.points[i] = surface_point(*pass.mesh, tri, b1, b2);
+      w.normals[i] = {0, 0, 0};
+    }
+    if (!pass.image_alpha) {
+      w.colour[i] = atlas_base(pass, r.texels[s / pass.spt], tri, b1, b2);
+    }
+  }
+}
+
+// A point some layer sees (the overlap choice's test).
+bool seen_by_some_layer(const AtlasWorker& w, std::size_t layers, std::size_t count,
+                        std::size_t i) {
+  for (std::size_t l = 0; l < layers; ++l) {
+    if (w.contribution[l * count + i].state == kSeen) return true;
+  }
+  return false;
+}
+
+// An overlapping layout: a sample whose own (lowest-index) triangle no
+// layer sees moves to the first candidate, in ascending triangle index, that
+// some layer sees, if any (its point, every layer's contribution, its
+// colour), so a texel shared by visible and hidden surfaces takes the
+// visible ones' colour. The choice depends only on the sample, never on
+// the thread count.
+void choose_overlaps(const AtlasPass& pass, AtlasWorker& w, std::size_t s0, std::size_t s1,
+                     std::size_t a0, std::size_t a1) {
+  AtlasRaster& r = w.band;
+  const std::size_t own = s1 - s0, count = own + (a1 - a0);
+  const std::size_t layers = pass.layers->size();
+  for (std::size_t a = a0; a < a1;) {
+    const std::size_t s = r.alt_sample[a];
+    std::size_t a_end = a;
+    while (a_end < a1 && r.alt_sample[a_end] == s) ++a_end;
+    if (!seen_by_some_layer(w, layers, count, s - s0)) {
+      for (std::size_t b = a; b < a_end; ++b) {
+        const std::size_t i = own + (b - a0);
+        if (!seen_by_some_layer(w, layers, count, i)) continue;
+        for (std::size_t l = 0; l < layers; ++l) {
+          w.contribution[l * count + (s - s0)] = w.contribution[l * count + i];
+        }
+        if (!pass.image_alpha) w.colour[s - s0] = w.colour[i];
+        w.triangles[s - s0] = w.triangles[i];
+        r.sample_triangle[s] = r.alt_triangle[b];
+        r.sample_b1[s] = r.alt_b1[b];
+        r.sample_b2[s] = r.alt_b2[b];
+        break;
+      }
+    }
+    a = a_end;
+  }
+}
+
+// The single projection's texel (ResultAlpha::kImage, SPEC section 4): the
+// plain mean of its samples in the working encoding, alpha a colour
+// channel: a sample's lookup, the --occluded constant (a texel all of whose
+// samples take it stores it exactly), or the fill interpolated over the
+// sample's triangle, summed after the coloured samples (or deferred).
+void image_texel(const AtlasPass& pass, AtlasWorker& w, std::size_t k, std::size_t s0) {
+  const AtlasRaster& r = w.band;
+  const std::size_t spt = pass.spt;
+  const uint32_t t = r.texels[k];
+  std::array<double, 4> acc{0, 0, 0, 0};
+  std::size_t constants = 0;
+  bool any_fill = false;
+  for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
+    const Contribution& c = w.contribution[s - s0];
+    if (c.coloured) {
+      for (int ch = 0; ch < 3; ++ch) acc[ch] += c.rgb[ch];
+      acc[3] += c.a;
+    } else if (!pass.fill) {
+      for (int ch = 0; ch < 4; ++ch) acc[ch] += pass.occluded_working[ch];
+      ++constants;
+    } else {
+      any_fill = true;
+    }
+  }
+  Deferred::Texel* later = nullptr;
+  if (any_fill && !pass.fill_colors) {
+    w.deferred.texels.push_back({t, acc, static_cast<uint32_t>(w.deferred.samples.size()), 0});
+    later = &w.deferred.texels.back();
+  }
+  for (std::size_t s = k * spt; any_fill && s < (k + 1) * spt; ++s) {
+    if (w.contribution[s - s0].coloured) continue;
+    if (later) {
+      w.deferred.samples.push_back({r.sample_triangle[s], r.sample_b1[s], r.sample_b2[s]});
+      ++later->count;
+    } else {
+      add_interpolated(*pass.mesh, *pass.fill_colors, r.sample_triangle[s], r.sample_b1[s],
+                       r.sample_b2[s], acc);
+    }
+  }
+  if (later) return;
+  const Rgba out = plain_texel(acc, spt, constants, pass.occluded_color,
+                               [&](const Rgba& c) { return from_work(c, pass.linear); });
+  std::copy(out.begin(), out.end(), pass.atlas + 4 * static_cast<std::size_t>(t));
+  pass.baked[t] = 1;
+}
+
+// A stack's texel (ResultAlpha::kCoverage): the mean of its samples in
+// premultiplied light (the stack's working space), straight and
+// sRGB-encoded out; a texel none of whose samples is covered takes the
+// mean of their fill colours, or the constant's RGB, alpha 0.
+void coverage_texel(const AtlasPass& pass, AtlasWorker& w, std::size_t k, std::size_t s0,
+                    BandTotals& totals) {
+  const AtlasRaster& r = w.band;
+  const std::size_t spt = pass.spt;
+  std::array<double, 3> premultiplied{0, 0, 0}, filled{0, 0, 0};
+  double alpha = 0;
+  std::size_t empty = 0;
+  for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
+    const Rgba& c = w.colour[s - s0];
+    if (c[3] > 0) {
+      for (int ch = 0; ch < 3; ++ch) premultiplied[ch] += double(c[3]) * c[ch];
+      alpha += c[3];
+    } else {
+      ++empty;
+      if (pass.fill) {
+        add_interpolated(*pass.mesh, *pass.fill_colors, r.sample_triangle[s], r.sample_b1[s],
+                         r.sample_b2[s], filled);
+      }
+    }
+  }
+  totals.uncovered += empty;
+  Rgba out{0, 0, 0, 0};
+  if (alpha > 0) {
+    for (int ch = 0; ch < 3; ++ch) out[ch] = static_cast<float>(premultiplied[ch] / alpha);
+    out[3] = static_cast<float>(std::min(1.0, alpha / static_cast<double>(spt)));
+    out = from_work(out, pass.linear);
+  } else if (pass.fill) {
+    for (int ch = 0; ch < 3; ++ch) {
+      out[ch] = static_cast<float>(filled[ch] / static_cast<double>(empty));
+    }
+    out = from_work(out, pass.linear);
+  } else {
+    out = {pass.occluded_color[0], pass.occluded_color[1], pass.occluded_color[2], 0};
+  }
+  if (out[3] < 1) totals.opaque = false;
+  const std::size_t t = r.texels[k];
+  std::copy(out.begin(), out.end(), pass.atlas + 4 * t);
+  pass.baked[t] = 1;
+}
+
+// Texels [k0, k1) of w.band through every layer (counts: the band's, one
+// per layer), into the atlas. False: a "cameras" layer's blend does not
+// cover them.
+bool atlas_batch(const AtlasPass& pass, AtlasWorker& w, std::size_t k0, std::size_t k1,
+                 LayerCounts* counts, BandTotals& totals) {
+  const AtlasRaster& r = w.band;
+  const std::size_t spt = pass.spt, s0 = k0 * spt, s1 = k1 * spt, own = s1 - s0;
+  std::size_t a0 = 0, a1 = 0;  // r.alt_* entries of samples [s0, s1)
+  if (pass.overlaps) {
+    a0 = std::lower_bound(r.alt_sample.begin(), r.alt_sample.end(), s0) - r.alt_sample.begin();
+    a1 = std::lower_bound(r.alt_sample.begin(), r.alt_sample.end(), s1) - r.alt_sample.begin();
+  }
+  const std::size_t count = own + (a1 - a0);
+  batch_points(pass, w, s0, s1, a0, a1);
+  const std::vector<LayerInput>& layers = *pass.layers;
+  w.contribution.resize(layers.size() * count);
+  PointFrame frame = pass.frame;
+  frame.triangles = w.triangles.data();
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    const auto layer_start = Clock::now();
+    if (layers[l].photos && !photo_sample_ids(*layers[l].photos, r, spt, k0, k1, w.ids)) {
+      return false;
+    }
+    Contribution* out = w.contribution.data() + l * count;
+    contributions(*(*pass.prepared)[l], frame, w.points.data(), w.normals.data(),
+                  pass.scene->scene(), pass.scene->offset, 0, count, out, counts[l],
+                  layers[l].photos ? w.ids.data() : nullptr);
+    if (!pass.image_alpha) {
+      for (std::size_t i = 0; i < count; ++i) composite(layers[l].mode, out[i], w.colour[i]);
+    }
+    counts[l].seconds += seconds_since(layer_start);
+  }
+  if (a1 > a0) choose_overlaps(pass, w, s0, s1, a0, a1);
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    tally(w.contribution.data() + l * count, own, counts[l], true);
+  }
+  for (std::size_t k = k0; k < k1; ++k) {
+    if (pass.image_alpha) {
+      image_texel(pass, w, k, s0);
+    } else {
+      coverage_texel(pass, w, k, s0, totals);
+    }
+  }
+  return true;
+}
+
+// The fill's per-vertex colours in the stack's working space: the vertex
+// target on uv_mesh over the same scene, with the bilinear lookup (as the
+// atlas samples take it); the single projection's fill (kImage: every
+// hidden or unmapped vertex filled), a stack's with its base (but the
+// mesh's texture, which vertices cannot look up). `seconds`: per layer.
+Expected<std::vector<Rgba>> atlas_fill_colors(const MeshData& uv_mesh,
+                                              const std::vector<LayerInput>& layers,
+                                              const LayersAtlasOptions& options,
+                                              const EmbreeScene* scene, bool linear,
+                                              std::vector<double>& seconds) {
+  LayersBakeOptions vo = options.layers;
+  vo.scene = scene;
+  if (vo.alpha == ResultAlpha::kImage) vo.occluded = OccludedMode::kFill;
+  if (options.base_texture.data) vo.base = LayerBase::kNone;
+  std::vector<LayerInput> bilinear = layers;
+  for (LayerInput& l : bilinear) l.filter = VertexFilter::kBilinear;
+  Expected<LayersBakeResult> vertex = bake_vertex_layers(uv_mesh, bilinear, vo);
+  if (!vertex) return vertex.error();
+  for (std::size_t l = 0; l < layers.size(); ++l) seconds[l] += vertex->layers[l].seconds;
+  std::vector<Rgba> colors = std::move(vertex->colors);
+  for (Rgba& c : colors) c = to_work(c, linear);
+  return colors;
+}
+
+// The deferred texels (kImage), their fill samples added to their sums.
+void finish_deferred(const AtlasPass& pass, const std::vector<Deferred>& deferred,
+                     const std::vector<Rgba>& fill_colors) {
+  for (const Deferred& d : deferred) {
+    for (Deferred::Texel texel : d.texels) {
+      for (uint32_t i = texel.first; i < texel.first + texel.count; ++i) {
+        const Deferred::Sample& ds = d.samples[i];
+        add_interpolated(*pass.mesh, fill_colors, ds.triangle, ds.b1, ds.b2, texel.acc);
+      }
+      const Rgba out = plain_texel(texel.acc, pass.spt, 0, pass.occluded_color,
+                                   [&](const Rgba& c) { return from_work(c, pass.linear); });
+      std::copy(out.begin(), out.end(), pass.atlas + 4 * static_cast<std::size_t>(texel.texel));
+      pass.baked[texel.texel] = 1;
+    }
+  }
+}
+
+// The input checks of bake_atlas_layers.
+Status check_atlas_stack(const MeshData& uv_mesh, const std::vector<LayerInput>& layers,
+                         const LayersAtlasOptions& options) {
+  if (layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
+  if (Status s = check_padding(options.padding); !s) return s;
+  const LayersBakeOptions& lo = options.layers;
+  if (lo.alpha == ResultAlpha::kImage) {
+    if (Status s = check_single_projection(layers, lo); !s) return s;
+  }
+  const bool base_texture = lo.base == LayerBase::kMesh && options.base_texture.data;
+  if (lo.base == LayerBase::kMesh && !base_texture &&
+      uv_mesh.vertex_colors.size() != uv_mesh.positions.size()) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "base \"mesh\": the mesh has neither a texture nor vertex colours");
+  }
+  if (base_texture && (options.base_texture.width < 1 || options.base_texture.height < 1)) {
+    return make_error(ErrorCode::kInvalidArgument, "base \"mesh\": the mesh's texture is empty");
+  }
+  const std::size_t atlas_texels = static_cast<std::size_t>(options.size) * options.size;
+  for (const LayerInput& in : layers) {
+    if (in.photos && (in.photos->texel_first.size() != atlas_texels ||
+                      in.photos->samples.size() % static_cast<std::size_t>(options.samples))) {
+      return make_error(ErrorCode::kInvalidArgument,
+                        in.name + ": the cameras layer's photo blend is not this atlas's");
+    }
+  }
+  return ok_status();
+}
+
+int64_t nanoseconds(Clock::duration d) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(d).count();
 }
 
 }  // namespace
@@ -949,228 +1362,190 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
                                               const std::vector<LayerInput>& layers,
                                               const LayersAtlasOptions& options,
                                               Progress* progress) {
-  if (layers.empty()) return make_error(ErrorCode::kInvalidArgument, "no layers to bake");
-  if (Status s = check_padding(options.padding); !s) return s.error();
+  if (Status s = check_atlas_stack(uv_mesh, layers, options); !s) return s.error();
   const LayersBakeOptions& lo = options.layers;
-  if (lo.alpha != ResultAlpha::kCoverage) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "the layers atlas takes the coverage as alpha (ResultAlpha::kCoverage)");
-  }
-  const bool base_texture = lo.base == LayerBase::kMesh && options.base_texture.data;
-  const bool base_vertex = lo.base == LayerBase::kMesh && !base_texture;
-  if (base_vertex && uv_mesh.vertex_colors.size() != uv_mesh.positions.size()) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "base \"mesh\": the mesh has neither a texture nor vertex colours");
-  }
-  if (base_texture && (options.base_texture.width < 1 || options.base_texture.height < 1)) {
-    return make_error(ErrorCode::kInvalidArgument, "base \"mesh\": the mesh's texture is empty");
-  }
-  Expected<AtlasBands> bands_or =
-      AtlasBands::prepare(uv_mesh, AtlasRasterOptions{options.size, options.samples, false});
-  if (!bands_or) return bands_or.error();
-  const AtlasBands& bands = *bands_or;
+  const bool image_alpha = lo.alpha == ResultAlpha::kImage;
+  // Candidate triangles of overlapping samples matter only when rays
+  // choose; a "cameras" layer's blend is per sample (no candidates).
+  const bool overlaps = options.resolve_overlaps &&
+                        std::any_of(layers.begin(), layers.end(), needs_scene) &&
+                        std::none_of(layers.begin(), layers.end(),
+                                     [](const LayerInput& l) { return l.photos != nullptr; });
+  const AtlasRasterOptions raster_options{options.size, options.samples, overlaps};
   LayersAtlasResult result;
 
-  // Layers ready (all at once: every band goes through every layer).
-  const bool linear = stack_linear(layers);
-  std::vector<std::unique_ptr<Prepared>> prepared;
-  prepared.reserve(layers.size());
-  const std::size_t atlas_texels = static_cast<std::size_t>(options.size) * options.size;
-  for (const LayerInput& in : layers) {
-    Expected<std::unique_ptr<Prepared>> p = prepare(in, linear, uv_mesh.positions.size());
-    if (!p) return p.error();
-    if (in.photos && (in.photos->texel_first.size() != atlas_texels ||
-                      in.photos->samples.size() % static_cast<std::size_t>(options.samples))) {
-      return make_error(ErrorCode::kInvalidArgument,
-                        in.name + ": the cameras layer's photo blend is not this atlas's");
-    }
-    prepared.push_back(std::move(p).value());
-  }
-
-  // The fill's colours: the vertex target on the same mesh (linear RGB).
+  // The input checked first; the bands (48 bytes a triangle) are made after
+  // the fill, whose solver then does not hold its memory beside them (the
+  // 13.3M-triangle bake of bench/scale peaked during the fill).
   auto start = Clock::now();
+  bool covers = false;  // some triangle reaches the atlas' rows: the bands are not empty
+  if (Status s = AtlasBands::check(uv_mesh, raster_options, &covers); !s) return s.error();
+  double raster_seconds = seconds_since(start);
+
+  // The layers ready, all at once (every band goes through every layer).
+  const bool linear = stack_linear(layers);
+  std::vector<double> own_seconds;
+  Expected<std::vector<std::unique_ptr<Prepared>>> prepared =
+      prepare_stack(layers, linear, uv_mesh.positions.size(), lo, own_seconds);
+  if (!prepared) return prepared.error();
+
+  // The scene, shared by the samples' rays and the fill's vertex target;
+  // the smooth normals where a layer reads them.
+  start = Clock::now();
+  Expected<StackScene> scene =
+      covers ? stack_scene(uv_mesh, layers, lo.scene) : Expected<StackScene>(StackScene{});
+  if (!scene) return scene.error();
+  const bool with_normals = std::any_of(layers.begin(), layers.end(), needs_normals);
+  std::vector<Float3> normals;
+  if (with_normals && covers) normals = smooth_vertex_normals(uv_mesh);
+  result.seconds_scene = seconds_since(start);
+
+  // The fill before the pass, so each streamed texel is final once written:
+  // a stack's (its uncovered samples), or the single projection's with
+  // visibility and --occluded fill (nearly every mesh then has hidden
+  // samples). Otherwise the single projection's samples to fill are only
+  // the unmapped ones (a proxy's singular points): their texels wait for
+  // the pass's end, if there are any.
   const bool fill = lo.occluded != OccludedMode::kColor;
+  const bool fill_first =
+      covers && fill &&
+      (!image_alpha || (lo.occluded == OccludedMode::kFill && scene->scene() != nullptr));
   std::vector<Rgba> fill_colors;
-  std::vector<double> fill_seconds(layers.size(), 0.0);
-  if (fill) {
-    LayersBakeOptions vo = lo;
-    vo.scene = nullptr;  // the vertex target's own, over uv_mesh
-    if (base_texture) vo.base = LayerBase::kNone;
-    // The fill's per-vertex colours take the bilinear lookup, as the proxy atlas's.
-    std::vector<LayerInput> bilinear = layers;
-    for (LayerInput& l : bilinear) l.filter = VertexFilter::kBilinear;
-    Expected<LayersBakeResult> vertex = bake_vertex_layers(uv_mesh, bilinear, vo);
-    if (!vertex) return vertex.error();
-    for (std::size_t l = 0; l < layers.size(); ++l) fill_seconds[l] = vertex->layers[l].seconds;
-    fill_colors = std::move(vertex->colors);
-    for (Rgba& c : fill_colors) c = to_work(c, linear);
+  if (fill_first) {
+    if (is_cancelled(progress)) return cancelled_error();
+    start = Clock::now();
+    Expected<std::vector<Rgba>> colors =
+        atlas_fill_colors(uv_mesh, layers, options, scene->scene(), linear, own_seconds);
+    if (!colors) return colors.error();
+    fill_colors = std::move(colors).value();
+    result.seconds_fill = seconds_since(start);
   }
-  result.seconds_fill = seconds_since(start);
 
   start = Clock::now();
-  Expected<StackScene> scene = stack_scene(uv_mesh, layers, nullptr);
-  if (!scene) return scene.error();
-  const std::vector<Float3> normals = smooth_vertex_normals(uv_mesh);
-  std::vector<float> base_premultiplied;
-  ImageView base_view;
-  if (base_texture && linear) {
-    base_premultiplied = premultiplied_linear(options.base_texture);
-    base_view = {options.base_texture.width, options.base_texture.height, base_premultiplied.data(),
-                 ColorSpace::kLinear};
-  } else if (base_texture) {
-    base_view = options.base_texture;  // as stored, straight alpha
-  }
-  PointFrame frame;
-  frame.mesh = &uv_mesh;
-  frame.cell = ewa_cell(options.size, options.samples);
-  result.seconds_scene = seconds_since(start);
+  Expected<AtlasBands> bands_or = AtlasBands::prepare(uv_mesh, raster_options);
+  if (!bands_or) return bands_or.error();
+  const AtlasBands& bands = *bands_or;
+  raster_seconds += seconds_since(start);
 
   start = Clock::now();
   const int n = options.size;
-  const std::size_t spt = static_cast<std::size_t>(options.samples);
   result.atlas.width = result.atlas.height = n;
   result.atlas.pixels.assign(static_cast<std::size_t>(n) * n * 4, 0.f);
   result.atlas.color_space = ColorSpace::kSrgb;
   result.atlas.has_alpha = true;
   result.baked.assign(static_cast<std::size_t>(n) * n, 0);
-  const Rgba base_working = to_work(lo.base_color, linear);
+  std::vector<float> base_premultiplied;
+  AtlasPass pass;
+  pass.mesh = &uv_mesh;
+  pass.layers = &layers;
+  pass.prepared = &*prepared;
+  pass.scene = &*scene;
+  pass.normals = &normals;
+  pass.frame.mesh = &uv_mesh;
+  pass.frame.cell = ewa_cell(options.size, options.samples);
+  pass.image_alpha = image_alpha;
+  pass.linear = linear;
+  pass.overlaps = overlaps;
+  pass.spt = static_cast<std::size_t>(options.samples);
+  pass.size = n;
+  pass.base = lo.base;
+  pass.base_working = to_work(lo.base_color, linear);
+  pass.base_vertex = lo.base == LayerBase::kMesh && !options.base_texture.data;
+  if (lo.base == LayerBase::kMesh && options.base_texture.data) {
+    if (linear) {
+      base_premultiplied = premultiplied_linear(options.base_texture);
+      pass.base_view = {options.base_texture.width, options.base_texture.height,
+                        base_premultiplied.data(), ColorSpace::kLinear};
+    } else {
+      pass.base_view = options.base_texture;  // as stored, straight alpha
+    }
+  }
+  pass.fill = fill;
+  pass.fill_colors = fill_first ? &fill_colors : nullptr;
+  pass.occluded_color = lo.occluded_color;
+  pass.occluded_working = to_work(lo.occluded_color, linear);
+  pass.atlas = result.atlas.pixels.data();
+  pass.baked = result.baked.data();
+
+  // Bands write disjoint rows of the atlas, and each texel's value depends
+  // only on its own samples: the result is independent of the thread count.
+  // Counts are kept per band and layer and summed in band order.
   const std::size_t band_count = bands.band_count();
-  // Per band and layer, so that the sums are taken in band order.
   std::vector<LayerCounts> counts(band_count * layers.size());
-  std::vector<std::size_t> band_texels(band_count, 0), band_samples(band_count, 0),
-      band_border(band_count, 0), band_uncovered(band_count, 0);
-  std::vector<uint8_t> band_opaque(band_count, 1), band_mismatch(band_count, 0);
+  std::vector<std::size_t> band_texels(band_count, 0), band_border(band_count, 0);
+  std::vector<BandTotals> totals(band_count);
+  std::vector<uint8_t> band_mismatch(band_count, 0);
+  std::atomic<int64_t> raster_ns{0}, sample_ns{0};
+  std::mutex deferred_mutex;
+  std::vector<Deferred> deferred;
   if (progress) progress->start("sample", static_cast<std::size_t>(n));
   parallel_for_chunks(band_count, 1, [&](std::size_t band_begin, std::size_t band_end) {
     AtlasWorker w;
+    int64_t r_ns = 0, s_ns = 0;
     for (std::size_t band = band_begin; band < band_end; ++band) {
-      if (progress && progress->cancelled()) return;
+      if (is_cancelled(progress)) break;
+      const auto ta = Clock::now();
       bands.rasterize(band, w.band, w.scratch);
-      const AtlasRaster& r = w.band;
-      const std::size_t m = r.sample_count();
-      w.points.resize(m);
-      w.normals.resize(m);
-      w.colour.assign(m, Rgba{0, 0, 0, 0});
-      w.contribution.resize(m);
-      for (std::size_t s = 0; s < m; ++s) {
-        const auto& tri = uv_mesh.triangles[r.sample_triangle[s]];
-        const double b1 = r.sample_b1[s], b2 = r.sample_b2[s], b0 = 1 - b1 - b2;
-        const SurfaceSample sp = surface_sample(uv_mesh, normals, r.sample_triangle[s], b1, b2);
-        w.points[s] = sp.p;
-        w.normals[s] = sp.n;
-        if (lo.base == LayerBase::kColor) {
-          w.colour[s] = base_working;
-        } else if (base_vertex) {
-          Rgba v{0, 0, 0, 0};
-          for (int k = 0; k < 3; ++k) {
-            const auto& vc = uv_mesh.vertex_colors[tri[k]];
-            const Rgba lin = to_work(Rgba{vc[0], vc[1], vc[2], vc[3]}, linear);
-            const double bk = k == 0 ? b0 : k == 1 ? b1 : b2;
-            for (int ch = 0; ch < 4; ++ch) v[ch] += static_cast<float>(bk * lin[ch]);
-          }
-          w.colour[s] = v;
-        }
-      }
-      if (base_texture) {
-        // The texel centre's lookup, shared by the texel's samples.
-        for (std::size_t k = 0; k < r.texels.size(); ++k) {
-          const std::size_t t = r.texels[k];
-          const double x = static_cast<double>(t % n), y = static_cast<double>(t / n);
-          const UV uv{(x + 0.5) / n, 1 - (y + 0.5) / n};
-          Rgba s = sample_bilinear(base_view, uv, WrapMode::kClamp, WrapMode::kClamp);
-          if (linear && s[3] > 0) {  // premultiplied: straight (else stored straight)
-            for (int ch = 0; ch < 3; ++ch) s[ch] /= s[3];
-          } else if (linear) {
-            s = {0, 0, 0, 0};
-          } else if (base_view.color_space == ColorSpace::kLinear) {
-            s = linear_to_srgb(s);  // a linear texture in an sRGB-encoded stack
-          }
-          for (std::size_t j = k * spt; j < (k + 1) * spt; ++j) w.colour[j] = s;
-        }
-      }
-      for (std::size_t l = 0; l < prepared.size(); ++l) {
-        const auto layer_start = Clock::now();
-        LayerCounts& c = counts[band * layers.size() + l];
-        if (layers[l].photos && !photo_sample_ids(*layers[l].photos, r, spt, w.ids)) {
+      const auto tb = Clock::now();
+      const std::size_t texels = w.band.texels.size();
+      for (std::size_t k = 0; k < texels && !band_mismatch[band]; k += kTexelBatch) {
+        if (!atlas_batch(pass, w, k, std::min(texels, k + kTexelBatch),
+                         counts.data() + band * layers.size(), totals[band])) {
           band_mismatch[band] = 1;
-          return;
         }
-        PointFrame band_frame = frame;
-        band_frame.triangles = r.sample_triangle.data();
-        contributions(*prepared[l], band_frame, w.points.data(), w.normals.data(), scene->scene(),
-                      scene->offset, 0, m, w.contribution.data(), c,
-                      layers[l].photos ? w.ids.data() : nullptr);
-        const LayerMode mode = layers[l].mode;
-        for (std::size_t s = 0; s < m; ++s) composite(mode, w.contribution[s], w.colour[s]);
-        c.seconds += seconds_since(layer_start);
       }
-      // Texels: the mean in premultiplied linear light, straight sRGB out.
-      std::size_t uncovered = 0;
-      bool opaque = true;
-      for (std::size_t k = 0; k < r.texels.size(); ++k) {
-        std::array<double, 3> premultiplied{0, 0, 0}, filled{0, 0, 0};
-        double alpha = 0;
-        std::size_t empty = 0;
-        for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
-          const Rgba& c = w.colour[s];
-          if (c[3] > 0) {
-            for (int ch = 0; ch < 3; ++ch) premultiplied[ch] += double(c[3]) * c[ch];
-            alpha += c[3];
-          } else {
-            ++empty;
-            if (fill) {
-              add_interpolated(uv_mesh, fill_colors, r.sample_triangle[s], r.sample_b1[s],
-                               r.sample_b2[s], filled);
-            }
-          }
-        }
-        uncovered += empty;
-        Rgba out{0, 0, 0, 0};
-        if (alpha > 0) {
-          for (int ch = 0; ch < 3; ++ch) out[ch] = static_cast<float>(premultiplied[ch] / alpha);
-          out[3] = static_cast<float>(std::min(1.0, alpha / static_cast<double>(spt)));
-          out = from_work(out, linear);
-        } else if (fill) {
-          for (int ch = 0; ch < 3; ++ch) {
-            out[ch] = static_cast<float>(filled[ch] / static_cast<double>(empty));
-          }
-          out = from_work(out, linear);
-        } else {
-          out = {lo.occluded_color[0], lo.occluded_color[1], lo.occluded_color[2], 0};
-        }
-        if (out[3] < 1) opaque = false;
-        const std::size_t t = r.texels[k];
-        std::copy(out.begin(), out.end(), result.atlas.pixels.begin() + 4 * t);
-        result.baked[t] = 1;
-      }
-      band_texels[band] = r.texels.size();
-      band_samples[band] = m;
-      band_border[band] = r.border_samples;
-      band_uncovered[band] = uncovered;
-      band_opaque[band] = opaque ? 1 : 0;
+      r_ns += nanoseconds(tb - ta);
+      s_ns += nanoseconds(Clock::now() - tb);
+      band_texels[band] = texels;
+      band_border[band] = w.band.border_samples;
       if (progress) progress->advance(bands.band_rows(band));
     }
+    raster_ns += r_ns;
+    sample_ns += s_ns;
+    if (!w.deferred.texels.empty()) {
+      std::lock_guard<std::mutex> lock(deferred_mutex);
+      deferred.push_back(std::move(w.deferred));
+    }
   });
-  if (progress && progress->cancelled()) return cancelled_error();
+  if (is_cancelled(progress)) return cancelled_error();
   if (std::any_of(band_mismatch.begin(), band_mismatch.end(), [](uint8_t b) { return b; })) {
     return make_error(ErrorCode::kInvalidArgument,
                       "a cameras layer's photo blend does not cover this atlas's texels");
   }
   if (progress) progress->finish();
-  scene->own.reset();
   for (std::size_t band = 0; band < band_count; ++band) {
     result.texels += band_texels[band];
-    result.samples += band_samples[band];
     result.border_samples += band_border[band];
-    result.uncovered += band_uncovered[band];
-    if (!band_opaque[band]) result.opaque = false;
+    result.uncovered += totals[band].uncovered;
+    if (!totals[band].opaque) result.opaque = false;
   }
-  result.seconds_layers = seconds_since(start);
-  result.layers = layer_stats(layers, counts, result.samples, fill_seconds, result.seconds_layers);
+  result.samples = result.texels * pass.spt;
+  // Rasterising and sampling interleave per band: the pass's wall time is
+  // split between the two in proportion to the thread time each took.
+  const double pass_seconds = seconds_since(start);
+  const double busy = static_cast<double>(raster_ns.load() + sample_ns.load());
+  const double raster_share = busy > 0 ? raster_ns.load() / busy : 0;
+  result.seconds_raster = raster_seconds + pass_seconds * raster_share;
+  result.seconds_layers = pass_seconds * (1 - raster_share);
+
+  // The deferred texels (each independent: their order does not matter).
+  if (!deferred.empty()) {
+    start = Clock::now();
+    Expected<std::vector<Rgba>> colors =
+        atlas_fill_colors(uv_mesh, layers, options, scene->scene(), linear, own_seconds);
+    if (!colors) return colors.error();
+    finish_deferred(pass, deferred, *colors);
+    result.seconds_fill += seconds_since(start);
+  }
+  scene->own.reset();
+  result.layers = layer_stats(layers, counts, result.samples, own_seconds, result.seconds_layers);
 
   start = Clock::now();
   result.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);
   result.seconds_pad = seconds_since(start);
+  for (const LayerInput& in : layers) {
+    if (Status s = check_texels_read(in.texture); !s) return s.error();
+  }
   return result;
 }
 

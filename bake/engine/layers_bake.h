@@ -41,7 +41,9 @@
 // do not depend on the thread count.
 // One per-point implementation serves both targets: the vertex target's
 // points are the vertices with their smooth normals, the atlas's its
-// supersamples with the interpolated smooth normals.
+// supersamples with the interpolated smooth normals. The single-proxy
+// bakes (bake/engine/bake_vertex.h, bake_atlas.h) are one-layer stacks
+// under ResultAlpha::kImage.
 #pragma once
 
 #include <cstddef>
@@ -132,6 +134,14 @@ struct LayerInput {
   bool straight = false;
 };
 
+// The single-proxy bake's projection as a layer (for ResultAlpha::kImage):
+// the image in its stored encoding with straight alpha, or with
+// options.linear in linear light with straight alpha; the options'
+// visibility, outside (clamp or the colour), filter (and its samples) and
+// plane wrap.
+LayerInput single_projection_layer(const ImageView& image, const Proxy& proxy,
+                                   const VertexBakeOptions& options);
+
 // What a vertex target's alpha is, and which vertices the fill resolves.
 enum class ResultAlpha {
   // Layers (SPEC section 10): alpha is the coverage; the vertices with
@@ -165,29 +175,29 @@ struct LayersBakeOptions {
   // A "cameras" layer's photos that disagree on the mesh are a warning
   // (PhotoBakeOptions::consistency_warning); off with --no-alignment-check.
   bool consistency_warning = true;
-  // The vertex target's alpha and unknown vertices (ResultAlpha; the atlas
-  // target takes kCoverage only).
+  // The result's alpha and which samples the fill resolves (ResultAlpha).
   ResultAlpha alpha = ResultAlpha::kCoverage;
-  // The vertex target: a scene already built over the mesh
-  // (EmbreeScene::build) for the visibility rays, instead of building one;
-  // not owned. The same results. The atlas target ignores it.
+  // A scene already built over the mesh (EmbreeScene::build) for the
+  // visibility rays, instead of building one; not owned. The same results.
   const EmbreeScene* scene = nullptr;
 };
 
 struct LayerStats {
   std::string name;
-  // Seconds spent on this layer: its share of the layers stage (by the
-  // threads' time in it), plus for a "cameras" layer the photo bake.
+  // Seconds spent on this layer: its preparation, its share of the layers
+  // stage (by the threads' time in it) and of the atlas target's fill, plus
+  // for a "cameras" layer the photo bake.
   double seconds = 0;
   bool photos = false;        // a "cameras" layer (name: its model or list)
   std::size_t in_domain = 0;  // samples the projector maps inside its (u, v) domain
   std::size_t visible = 0;    // of the mapped samples, those it sees
   std::size_t blended = 0;    // samples with a > 0
   double mean_alpha = 0;      // mean a over all samples
-  // The vertex target: the filter's lookups (kArea: one per share point;
-  // the fallbacks' included) and of those the ones outside the (u, v)
-  // domain; vertices mapped but not seen (a blocked ray, a camera facing
-  // away); vertices without a mapping (or whose area filter found none).
+  // The lookups (the vertex target's filter's: kArea one per share point,
+  // the fallbacks' included; the atlas target's: one per coloured sample)
+  // and of those the ones outside the (u, v) domain; samples mapped but not
+  // seen (a blocked ray, a camera facing away); samples without a mapping
+  // (or whose area filter found none).
   std::size_t lookups = 0, outside = 0, hidden = 0, unmapped = 0;
   std::vector<SkippedPhoto> skipped;  // a "cameras" layer: its photos left out
 };
@@ -253,11 +263,24 @@ Expected<LayersBakeResult> bake_vertex_layers_finish(const MeshData& mesh, Layer
 // alpha 0.5 and the layer's colour), written straight-alpha, sRGB-encoded.
 // A texel none of whose samples is covered (alpha 0) takes, under kFill, the
 // mean of its samples' fill colours: the vertex target's result on uv_mesh
-// (bake_vertex_layers; base "none" when the base is the texture)
-// interpolated barycentrically, as the proxy atlas does with its per-vertex
-// fill; under kColor the constant's RGB exactly; alpha stays 0. Padding:
+// (bake_vertex_layers over the same scene, with the bilinear lookup; base
+// "none" when the base is the texture) interpolated barycentrically; under
+// kColor the constant's RGB exactly; alpha stays 0.
+// Under ResultAlpha::kImage (the single projection, SPEC section 4) a
+// texel is instead the plain mean of its samples' RGBA in the layer's
+// working space (alpha a colour channel): a seen sample's lookup (outside
+// the domain: the clamped lookup or the --outside colour), a hidden one's
+// under kProject; hidden samples under kFill and unmapped ones under kFill
+// or kProject take the fill (the vertex target under kImage with kFill,
+// interpolated over the sample's triangle), added after the coloured
+// samples; under kColor such samples take the constant, and a texel all of
+// whose samples take it is the constant exactly. With visibility and kFill
+// the fill is computed before the pass; otherwise only the texels that
+// need it wait for the pass's end. Padding:
 // pad_atlas (bake/atlas/atlas_common.h) as `padding` says. Layer stats count
-// samples (in_domain, visible, blended; mean alpha over all samples).
+// samples (in_domain, visible, blended, hidden, unmapped; lookups, one per
+// coloured sample, and of those the ones outside the domain; mean alpha
+// over all samples), after the overlap choice (resolve_overlaps).
 // Memory: the atlas, every layer's working image, and one band of samples
 // per thread. Results do not depend on the thread count.
 
@@ -265,8 +288,17 @@ struct LayersAtlasOptions {
   int size = 2048;           // texels per side, 1 .. kMaxAtlasSize
   int samples = 4;           // supersamples per covered texel, 1 .. kMaxAtlasSamples
   int padding = -1;          // as AtlasBakeOptions::padding (kPaddingDefault = -1)
-  LayersBakeOptions layers;  // base (+ colour), occluded (+ colour)
+  LayersBakeOptions layers;  // base (+ colour), occluded (+ colour), alpha, scene
   ImageView base_texture;    // base "mesh": the mesh's texture (data null: its vertex colours)
+  // An overlapping layout (texels under several UV triangles: --uv proxy on
+  // a mesh that is not star-shaped as seen from the projector, --uv mesh
+  // with shared UVs): a sample inside several triangles takes the
+  // lowest-index one that some layer sees (visibility "first"; if none
+  // does, the lowest-index one, as without), so shared texels take the
+  // visible surface's colour. Costs a full candidate scan per sample and
+  // every layer's lookup at each further candidate. Not with a "cameras"
+  // layer (its blend is per sample): then ignored.
+  bool resolve_overlaps = false;
 };
 
 struct LayersAtlasResult {
@@ -277,12 +309,17 @@ struct LayersAtlasResult {
   std::size_t uncovered = 0;  // samples with coverage 0
   std::size_t padded = 0;     // texels filled by padding
   bool opaque = true;         // every covered texel has alpha 1
-  double seconds_fill = 0, seconds_scene = 0, seconds_layers = 0, seconds_pad = 0;
+  // seconds_raster and seconds_layers split the band pass's wall time by
+  // the threads' time in rasterising and in the layers.
+  double seconds_raster = 0, seconds_fill = 0, seconds_scene = 0, seconds_layers = 0;
+  double seconds_pad = 0;
 };
 
 // uv_mesh: a mesh with per-corner UVs covering its triangles (as for
 // bake_atlas). Errors: kInvalidArgument (no layers, an empty image, a bad
-// padding, base "mesh" with neither a texture nor vertex colours),
+// padding, base "mesh" with neither a texture nor vertex colours, under
+// ResultAlpha::kImage a stack that is not one bare layer), kParse (a tiled
+// texture's tiles could not be read),
 // rasterize_atlas's (bad size or samples, no UVs, bad UVs), kInternal
 // (Embree, the fill), kCancelled (progress's callback; stage "sample", per
 // band).

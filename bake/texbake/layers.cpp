@@ -351,6 +351,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     o.samples = resolved.bake.samples;
     o.padding = resolved.bake.padding;
     o.layers = options;
+    o.resolve_overlaps = out.atlas.uv.overlap_texels > 0;
     if (texture) o.base_texture = texture->view();
     Expected<LayersAtlasResult> baked = bake_atlas_layers(out.atlas.mesh, *inputs, o, &progress);
     if (progress.cancelled()) return cancelled_error();

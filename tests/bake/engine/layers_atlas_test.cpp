@@ -6,10 +6,12 @@
 // its 2 x 2 sub-cells (offsets +-1/4 texel).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "bake/engine/bake_atlas.h"
 #include "bake/engine/layers_bake.h"
+#include "tests/bake/atlas/atlas_test_util.h"
 #include "tests/bake/test_meshes.h"
 
 namespace texbake {
@@ -182,6 +184,86 @@ TEST(LayersAtlas, BaseVertexColoursInterpolateAndBadInputIsRefused) {
   o.padding = -7;
   EXPECT_FALSE(bake_atlas_layers(mesh, {in}, o));
   EXPECT_FALSE(bake_atlas_layers(mesh, {}, atlas_options(4)));
+}
+
+TEST(LayersAtlas, OverlappingLayoutTakesTheSurfaceSomeLayerSees) {
+  // Two unit squares with the same UVs, (x, y), at z = 0 and z = 1; the
+  // plane's rays go towards +z, so the square at z = 0 is hidden behind the
+  // other. With resolve_overlaps every sample takes the visible square
+  // (whichever comes first in the mesh): the layer's colour, coverage 1.
+  // Without, each sample keeps its lowest-index triangle: where that is
+  // the hidden square, no coverage, and the constant's RGB with alpha 0.
+  auto square = [](float z) {
+    return std::vector<Float3>{{0, 0, z}, {1, 0, z}, {1, 1, z}, {0, 0, z}, {1, 1, z}, {0, 1, z}};
+  };
+  const TestImage green = constant({0, 0.75f, 0, 1});
+  LayerInput in = layer(green);
+  in.visibility = LayerVisibility::kFirst;
+  const int n = 16;
+  for (bool hidden_first : {true, false}) {
+    std::vector<Float3> pos = square(hidden_first ? 0.f : 1.f);
+    const std::vector<Float3> other = square(hidden_first ? 1.f : 0.f);
+    pos.insert(pos.end(), other.begin(), other.end());
+    std::vector<Float2> uv;
+    for (const Float3& p : pos) uv.push_back({p.x, p.y});
+    const MeshData mesh = test::make_triangle_soup(pos, uv);
+    for (bool resolve : {true, false}) {
+      LayersAtlasOptions o = atlas_options(n);
+      o.padding = 0;
+      o.resolve_overlaps = resolve;
+      o.layers.occluded = OccludedMode::kColor;
+      o.layers.occluded_color = {1, 0, 0, 1};
+      Expected<LayersAtlasResult> r = bake_atlas_layers(mesh, {in}, o);
+      ASSERT_TRUE(r) << r.error().message;
+      ASSERT_EQ(r->texels, std::size_t(n * n));
+      const bool green_everywhere = resolve || !hidden_first;
+      for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+          SCOPED_TRACE(testing::Message() << "texel " << x << ", " << y << " hidden first "
+                                          << hidden_first << " resolve " << resolve);
+          if (green_everywhere) {
+            expect_rgba(texel(*r, x, y), {0, 0.75, 0, 1});
+          } else {
+            expect_rgba(texel(*r, x, y), {1, 0, 0, 0});
+          }
+        }
+      }
+      // The counts are the chosen samples': all seen, or all hidden.
+      const std::size_t samples = std::size_t(n * n) * 4;
+      EXPECT_EQ(r->layers[0].visible, green_everywhere ? samples : 0u);
+      EXPECT_EQ(r->layers[0].hidden, green_everywhere ? 0u : samples);
+      EXPECT_EQ(r->uncovered, green_everywhere ? 0u : samples);
+    }
+  }
+}
+
+TEST(LayersAtlas, SingleProjectionIsThePlainMeanOfItsSamples) {
+  // ResultAlpha::kImage on the atlas: a texel is the plain mean of its
+  // samples' RGBA in the stored encoding (alpha a colour channel, not a
+  // coverage): an image half transparent on the left half of the plane
+  // gives texels alpha 0 and their colour, not the constant.
+  TestImage half;
+  half.w = 2;
+  half.h = 1;
+  half.px = {0.2f, 0.4f, 0.6f, 0.f, 0.8f, 0.6f, 0.4f, 1.f};
+  LayerInput in = layer(half);
+  in.linear = false;
+  in.outside = LayerOutside::kClamp;
+  LayersAtlasOptions o = atlas_options(8);
+  o.layers.alpha = ResultAlpha::kImage;
+  Expected<LayersAtlasResult> r = bake_atlas_layers(uv_square(), {in}, o);
+  ASSERT_TRUE(r) << r.error().message;
+  // Texel x's samples sit at u = (x + 0.5 -+ 0.25) / 8; the image's
+  // bilinear lookup (SPEC section 1) at u is the texel centres' blend with
+  // weight clamp(2u - 0.5, 0, 1) on the right one.
+  for (int x = 0; x < 8; ++x) {
+    double w = 0;
+    for (double du : {-0.25, 0.25}) w += std::clamp(2 * (x + 0.5 + du) / 8 - 0.5, 0.0, 1.0) / 2;
+    const std::array<double, 4> want{0.2 + 0.6 * w, 0.4 + 0.2 * w, 0.6 - 0.2 * w, w};
+    for (int y = 0; y < 8; ++y) expect_rgba(texel(*r, x, y), want, 1e-6);
+  }
+  EXPECT_EQ(r->layers[0].lookups, 256u);
+  EXPECT_EQ(r->layers[0].outside, 0u);
 }
 
 }  // namespace

@@ -342,16 +342,22 @@ TEST(LayersEngine, SingleProjectionRuleTakesOneBareLayer) {
   EXPECT_TRUE(refused({premultiplied}, single));
   premultiplied.straight = true;  // --linear's working space
   EXPECT_TRUE(bake_vertex_layers(mesh, {premultiplied}, single));
-  // The atlas target composites by coverage only.
+  // The atlas target takes the same rule, and refuses the same stacks.
   std::vector<Float2> uvs;
   for (const Float3& p : mesh.positions) uvs.push_back({0.5f + 0.4f * p.x, 0.5f + 0.4f * p.y});
+  const MeshData uv_mesh = mesh_with_triangle_uvs(mesh, uvs, mesh.triangles);
   LayersAtlasOptions atlas;
   atlas.size = 16;
   atlas.layers = single;
-  Expected<LayersAtlasResult> a =
-      bake_atlas_layers(mesh_with_triangle_uvs(mesh, uvs, mesh.triangles), {bare}, atlas);
-  ASSERT_FALSE(a);
-  EXPECT_EQ(a.error().code, ErrorCode::kInvalidArgument);
+  EXPECT_TRUE(bake_atlas_layers(uv_mesh, {bare}, atlas));
+  for (const std::vector<LayerInput>& stack :
+       {std::vector<LayerInput>{bare, bare}, std::vector<LayerInput>{faded},
+        std::vector<LayerInput>{transparent}, std::vector<LayerInput>{multiply}}) {
+    Expected<LayersAtlasResult> a = bake_atlas_layers(uv_mesh, stack, atlas);
+    ASSERT_FALSE(a);
+    EXPECT_EQ(a.error().code, ErrorCode::kInvalidArgument);
+    EXPECT_NE(a.error().message.find("single-projection"), std::string::npos) << a.error().message;
+  }
 }
 
 TEST(LayersEngine, ProxyVertexBakeIsTheSameOverASharedScene) {
