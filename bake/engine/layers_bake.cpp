@@ -710,16 +710,20 @@ std::vector<Rgba> vertex_base(const MeshData& mesh, const LayersBakeOptions& opt
   return colour;
 }
 
-// What the vertex target's blocks read and write.
-struct VertexPass {
+// What both targets' passes read: the stack, ready.
+struct StackPass {
   const MeshData* mesh = nullptr;
   const std::vector<LayerInput>* layers = nullptr;
   const std::vector<std::unique_ptr<Prepared>>* prepared = nullptr;
   const StackScene* scene = nullptr;
   const std::vector<Float3>* normals = nullptr;  // empty: no layer reads them
-  PointFrame frame;                              // mesh, adjacency
+  PointFrame frame;          // mesh; the vertex target's adjacency, the atlas's EWA cell
+  bool image_alpha = false;  // ResultAlpha::kImage
+};
+
+// What the vertex target's blocks read and write.
+struct VertexPass : StackPass {
   const std::vector<uint32_t>* order = nullptr;  // empty: index order
-  bool image_alpha = false;
   std::vector<Rgba>* colour = nullptr;
   std::vector<uint8_t>* state = nullptr;       // ResultAlpha::kImage: PointState per vertex
   std::vector<LayerCounts>* counts = nullptr;  // per block and layer
@@ -977,14 +981,7 @@ struct Deferred {
 
 // What the atlas pass reads (and the atlas it writes: bands write disjoint
 // rows).
-struct AtlasPass {
-  const MeshData* mesh = nullptr;
-  const std::vector<LayerInput>* layers = nullptr;
-  const std::vector<std::unique_ptr<Prepared>>* prepared = nullptr;
-  const StackScene* scene = nullptr;
-  const std::vector<Float3>* normals = nullptr;  // empty: no layer reads them
-  PointFrame frame;                              // mesh, cell
-  bool image_alpha = false;
+struct AtlasPass : StackPass {
   bool linear = false;
   bool overlaps = false;  // the raster lists overlap candidates: choose among them
   std::size_t spt = 1;
