@@ -575,7 +575,9 @@ struct LayerAtlas {
 // bake/engine/layers_bake.h): the UV layout of atlas.uv (kAuto, kMesh or
 // kGenerate; kProxy has no single proxy here), then per supersample every
 // layer of `spec` composited over its base, texel = the samples' mean in
-// premultiplied linear light, then atlas.bake.padding. Base "mesh" is the
+// premultiplied linear light, then atlas.bake.padding (an overlapping
+// layout, kMesh with shared UVs: a shared sample takes the lowest-index
+// triangle under it that some layer sees). Base "mesh" is the
 // mesh's own texture (MeshData::texture_path or texture_bytes, read with
 // read_mesh_texture) through the mesh's own UVs, which needs atlas.uv kMesh
 // (or kAuto on a mesh with UVs); a mesh without a texture but with vertex

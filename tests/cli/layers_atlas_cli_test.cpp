@@ -336,5 +336,44 @@ TEST_F(LayersAtlasCli, OneAndTwoThreadsGiveTheSameAtlas) {
   EXPECT_EQ(layers_part("r1.json"), layers_part("r2.json"));
 }
 
+TEST_F(LayersAtlasCli, OverlappingMeshUvsTakeTheSurfaceTheLayerSees) {
+  // Two unit squares sharing their UVs, the hidden one (z = 0, behind the
+  // other as the plane's rays go towards +z) first in the file: each shared
+  // texel takes the visible square's colour, as the proxy atlas gives it,
+  // not the lowest-index (hidden) triangle's --occluded colour.
+  write("squares.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+        "f 1/1 2/2 3/3\nf 1/1 3/3 4/4\nf 5/1 6/2 7/3\nf 5/1 7/3 8/4\n");
+  Image green;
+  green.width = green.height = 2;
+  for (int i = 0; i < 4; ++i) green.pixels.insert(green.pixels.end(), {0.f, 0.6f, 0.f, 1.f});
+  ASSERT_TRUE(write_image(dir_ / "green.png", green.view()));
+  write("L.json", R"({"layers":[{"proxy":{"kind":"plane","origin":[0,0,0],)"
+                  R"("u_axis":[1,0,0],"v_axis":[0,1,0]},"texture":"green.png"}]})");
+  testing_cli::RunResult r =
+      run_texbake("bake " + q(dir_ / "squares.obj") + " --layers " + q(dir_ / "L.json") +
+                  " --uv mesh --size 16 --padding 0 --occluded 1,0,0 -o " + q(dir_ / "out.obj"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  // Every texel centre but the 16 on the squares' diagonal (an edge, not
+  // inside) lies inside two triangles.
+  EXPECT_NE(r.err.find("240 atlas texels are covered by overlapping UV triangles"),
+            std::string::npos)
+      << r.err;
+  // Opaque everywhere: written without an alpha channel.
+  Expected<Image> out = read_image(dir_ / "out.png");
+  ASSERT_TRUE(out) << out.error().message;
+  EXPECT_FALSE(out->has_alpha);
+  ASSERT_EQ(out->width, 16);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      ASSERT_EQ(level(*out, x, y, 0), 0) << x << "," << y;
+      ASSERT_EQ(level(*out, x, y, 1), 153) << x << "," << y;
+      ASSERT_EQ(level(*out, x, y, 2), 0) << x << "," << y;
+      ASSERT_EQ(level(*out, x, y, 3), 255) << x << "," << y;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace texbake
