@@ -21,8 +21,12 @@ Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& imag
   stack.layers.alpha = ResultAlpha::kImage;
   stack.layers.occluded = options.shading.occluded;
   stack.layers.occluded_color = options.shading.occluded_color;
-  Expected<LayersAtlasResult> baked = bake_atlas_layers(
-      mesh, {single_projection_layer(image, proxy, options.shading)}, stack, progress);
+  // The atlas's lookup is bilinear or EWA (the area filter is the vertex
+  // target's: shading.samples is not used here).
+  VertexBakeOptions shading = options.shading;
+  if (shading.filter != VertexFilter::kEwa) shading.filter = VertexFilter::kBilinear;
+  Expected<LayersAtlasResult> baked =
+      bake_atlas_layers(mesh, {single_projection_layer(image, proxy, shading)}, stack, progress);
   if (!baked) return baked.error();
   const LayerStats& layer = baked->layers.front();
   AtlasBakeResult result;

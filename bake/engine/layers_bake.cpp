@@ -181,33 +181,48 @@ float fade(const Prepared& layer, double cosine) {
   return static_cast<float>(std::clamp((a1 - theta) / (a1 - a0), 0.0, 1.0));
 }
 
+// One thread's buffers for layer_block, reused from block to block so that
+// the pass allocates only while they grow.
+struct LayerScratch {
+  std::vector<MapResult> maps;
+  std::vector<uint8_t> seen, blocked;
+  std::vector<std::size_t> slot;
+  std::vector<Vec3> points;
+  VisibilityBatch batch;
+  SegmentScratch segments;
+  VertexShare share;
+};
+
 // Clears seen[i] for the points whose way to the layer's projector is
 // blocked: the segment to a camera's centre, or the ray towards a proxy
 // (points: the block's m = seen.size() points; maps: their mappings).
 void trace_seen(const Prepared& layer, const Vec3* points, const std::vector<MapResult>& maps,
-                const EmbreeScene& scene, double offset, std::vector<uint8_t>& seen) {
+                const EmbreeScene& scene, double offset, std::vector<uint8_t>& seen,
+                LayerScratch& scratch) {
   const std::size_t m = seen.size();
+  std::vector<std::size_t>& slot = scratch.slot;
+  slot.clear();
   if (layer.camera) {
-    std::vector<Vec3> ps;
-    std::vector<std::size_t> slot;
+    scratch.points.clear();
     for (std::size_t i = 0; i < m; ++i) {
-      if (seen[i]) ps.push_back(points[i]), slot.push_back(i);
+      if (seen[i]) scratch.points.push_back(points[i]), slot.push_back(i);
     }
-    SegmentScratch scratch;
-    std::vector<uint8_t> occluded(ps.size(), 0);
-    occluded_segments(scene, offset, ps, layer.camera->centre(), scratch, occluded.data());
-    for (std::size_t k = 0; k < ps.size(); ++k) {
-      if (occluded[k]) seen[slot[k]] = 0;
+    scratch.blocked.assign(slot.size(), 0);
+    occluded_segments(scene, offset, scratch.points, layer.camera->centre(), scratch.segments,
+                      scratch.blocked.data());
+    for (std::size_t k = 0; k < slot.size(); ++k) {
+      if (scratch.blocked[k]) seen[slot[k]] = 0;
     }
   } else {
-    VisibilityBatch batch;
-    std::vector<std::size_t> slot;
+    VisibilityBatch& batch = scratch.batch;
+    batch.clear();
     for (std::size_t i = 0; i < m; ++i) {
       if (!seen[i]) continue;
       batch.add(points[i], maps[i].to_projector);
       slot.push_back(i);
     }
-    std::vector<uint8_t> visible(slot.size(), 0);
+    std::vector<uint8_t>& visible = scratch.blocked;  // here: 1 where the ray is free
+    visible.assign(slot.size(), 0);
     if (!slot.empty()) batch.trace(scene, offset, visible.data());
     for (std::size_t k = 0; k < slot.size(); ++k) {
       if (!visible[k]) seen[slot[k]] = 0;
@@ -221,12 +236,14 @@ template <class Map, class Jacobian>
 void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian,
                  const PointFrame& frame, const Vec3* points, const Vec3* normals,
                  const EmbreeScene* scene, double offset, std::size_t begin, std::size_t end,
-                 Contribution* out, LayerCounts& counts) {
+                 Contribution* out, LayerCounts& counts, LayerScratch& scratch) {
   const LayerInput& in = *layer.input;
-  VertexShare share;
+  VertexShare& share = scratch.share;
   const std::size_t m = end - begin;
-  std::vector<MapResult> maps(m);
-  std::vector<uint8_t> seen(m, 1);
+  std::vector<MapResult>& maps = scratch.maps;
+  std::vector<uint8_t>& seen = scratch.seen;
+  maps.resize(m);
+  seen.assign(m, 1);
   for (std::size_t i = 0; i < m; ++i) {
     const Vec3& q = points[begin + i];
     maps[i] = map(q);
@@ -241,7 +258,7 @@ void layer_block(const Prepared& layer, const Map& map, const Jacobian& jacobian
     }
   }
   if (scene && in.visibility == LayerVisibility::kFirst) {
-    trace_seen(layer, points + begin, maps, *scene, offset, seen);
+    trace_seen(layer, points + begin, maps, *scene, offset, seen, scratch);
   }
   for (std::size_t i = 0; i < m; ++i) {
     Contribution& c = out[begin + i];
@@ -365,7 +382,7 @@ void with_projector(const Prepared& layer, F&& f) {
 // samples' indices in its PhotoLayerPoints::samples; null for vertices).
 void contributions(const Prepared& layer, const PointFrame& frame, const Vec3* points,
                    const Vec3* normals, const EmbreeScene* scene, double offset, std::size_t begin,
-                   std::size_t end, Contribution* out, LayerCounts& counts,
+                   std::size_t end, Contribution* out, LayerCounts& counts, LayerScratch& scratch,
                    const uint32_t* sample_ids = nullptr) {
   if (layer.input->photos) {
     photo_block(layer, sample_ids, frame, begin, end, out);
@@ -373,7 +390,7 @@ void contributions(const Prepared& layer, const PointFrame& frame, const Vec3* p
   }
   with_projector(layer, [&](const auto& map, const auto& jacobian) {
     layer_block(layer, map, jacobian, frame, points, normals, scene, offset, begin, end, out,
-                counts);
+                counts, scratch);
   });
 }
 
@@ -637,17 +654,17 @@ Status check_single_projection(const std::vector<LayerInput>& layers,
   };
   if (layers.size() != 1) return refuse("takes exactly one layer");
   const LayerInput& l = layers[0];
-  if (l.photos) return refuse("takes a proxy or a camera, not a set of photos");
-  if (l.linear && !l.straight) {
-    return refuse("takes the stored encoding or straight linear light, not premultiplied alpha");
-  }
   if (l.opacity != 1 || l.mask.has_texels() || l.angle_fade || l.mode != LayerMode::kOver) {
     return refuse("takes no opacity, mask, angle fade or blend mode");
+  }
+  if (options.base != LayerBase::kNone) return refuse("takes no base");
+  if (l.photos) return ok_status();  // the photo bake's blend: straight linear light
+  if (l.linear && !l.straight) {
+    return refuse("takes the stored encoding or straight linear light, not premultiplied alpha");
   }
   if (l.outside == LayerOutside::kTransparent) {
     return refuse("takes outside \"clamp\" or a colour, not \"transparent\"");
   }
-  if (options.base != LayerBase::kNone) return refuse("takes no base");
   return ok_status();
 }
 
@@ -746,11 +763,12 @@ void vertex_block(const VertexPass& pass, std::size_t block, std::size_t begin, 
     if (with_normals) point_normals[i] = vec((*pass.normals)[v]);
   }
   std::vector<Rgba>& colour = *pass.colour;
+  LayerScratch scratch;
   for (std::size_t l = 0; l < layer_count; ++l) {
     const auto layer_start = Clock::now();
     LayerCounts& c = (*pass.counts)[block * layer_count + l];
     contributions(*(*pass.prepared)[l], frame, points.data(), point_normals.data(),
-                  pass.scene->scene(), pass.scene->offset, 0, m, contribution.data(), c);
+                  pass.scene->scene(), pass.scene->offset, 0, m, contribution.data(), c, scratch);
     tally(contribution.data(), m, c, false);
     if (pass.image_alpha) {  // the lookup itself, alpha included
       for (std::size_t i = 0; i < m; ++i) {
@@ -788,28 +806,32 @@ VertexResolvePlan plan_unknown(const VertexPass& pass, const LayersBakeOptions& 
   VertexShare share;
   if (pass.image_alpha) {
     const std::vector<uint8_t>& state = *pass.state;
-    const bool project = options.occluded == OccludedMode::kProject;
+    const Prepared& layer = *pass.prepared->front();
+    // A photo blend has nothing to project: kProject acts as kFill, and an
+    // unanchored component takes the constant.
+    const bool photos = layer.input->photos != nullptr;
+    const bool project = options.occluded == OccludedMode::kProject && !photos;
     for (std::size_t v = 0; v < n; ++v) {
       unknown[v] = state[v] == kUnmapped || (state[v] == kHidden && !project);
     }
     how.constant = options.occluded_color;
-    const Prepared& layer = *pass.prepared->front();
-    how.fallback = [&](uint32_t v) -> Rgba {
-      if (state[v] == kHidden) {
-        std::optional<Rgba> c;
-        with_projector(layer, [&](const auto& map, const auto& jacobian) {
-          const Vec3 p = vec(mesh.positions[v]);
-          const MapResult r = map(p);
-          if (r.status == MapStatus::kUndefined) return;
-          PointFrame one = pass.frame;
-          one.first_vertex = v;
-          c = filtered(layer, map, jacobian, one, 0, p, r, share, fallback.filter);
-        });
-        if (c) return *c;
-      }
-      if (!mean) mean = image_mean(layer.view);
-      return *mean;
-    };
+    if (!photos)
+      how.fallback = [&](uint32_t v) -> Rgba {
+        if (state[v] == kHidden) {
+          std::optional<Rgba> c;
+          with_projector(layer, [&](const auto& map, const auto& jacobian) {
+            const Vec3 p = vec(mesh.positions[v]);
+            const MapResult r = map(p);
+            if (r.status == MapStatus::kUndefined) return;
+            PointFrame one = pass.frame;
+            one.first_vertex = v;
+            c = filtered(layer, map, jacobian, one, 0, p, r, share, fallback.filter);
+          });
+          if (c) return *c;
+        }
+        if (!mean) mean = image_mean(layer.view);
+        return *mean;
+      };
   } else {
     for (std::size_t v = 0; v < n; ++v) unknown[v] = colour[v][3] > 0 ? 0 : 1;
     how.constant = how.fill ? Rgba{0, 0, 0, 0} : options.occluded_color;
@@ -1008,8 +1030,8 @@ struct BandTotals {
   bool opaque = true;
 };
 
-// One thread's working memory, reused across bands and batches: the hot
-// loop does not allocate once the buffers have grown.
+// One thread's working memory, reused across bands and batches: the pass
+// allocates only while the buffers grow.
 struct AtlasWorker {
   AtlasRaster band;
   AtlasBandScratch scratch;
@@ -1020,6 +1042,7 @@ struct AtlasWorker {
   std::vector<Rgba> colour;                // kCoverage: straight colour and coverage
   std::vector<Contribution> contribution;  // per layer and point, layer-major
   std::vector<uint32_t> ids;               // a "cameras" layer: the samples' indices in its blend
+  LayerScratch layer;
   Deferred deferred;
 };
 
@@ -1095,7 +1118,12 @@ void batch_points(const AtlasPass& pass, AtlasWorker& w, std::size_t s0, std::si
       w.normals[i] = {0, 0, 0};
     }
     if (!pass.image_alpha) {
-      w.colour[i] = atlas_base(pass, r.texels[s / pass.spt], tri, b1, b2);
+      const std::size_t t = r.texels[s / pass.spt];
+      if (pass.base_view.data && i > 0 && !alt && (s - s0) % pass.spt != 0) {
+        w.colour[i] = w.colour[i - 1];  // the texel's base texture lookup, shared
+      } else {
+        w.colour[i] = atlas_base(pass, t, tri, b1, b2);
+      }
     }
   }
 }
@@ -1258,7 +1286,7 @@ bool atlas_batch(const AtlasPass& pass, AtlasWorker& w, std::size_t k0, std::siz
     }
     Contribution* out = w.contribution.data() + l * count;
     contributions(*(*pass.prepared)[l], frame, w.points.data(), w.normals.data(),
-                  pass.scene->scene(), pass.scene->offset, 0, count, out, counts[l],
+                  pass.scene->scene(), pass.scene->offset, 0, count, out, counts[l], w.layer,
                   layers[l].photos ? w.ids.data() : nullptr);
     if (!pass.image_alpha) {
       for (std::size_t i = 0; i < count; ++i) composite(layers[l].mode, out[i], w.colour[i]);
@@ -1292,7 +1320,7 @@ Expected<std::vector<Rgba>> atlas_fill_colors(const MeshData& uv_mesh,
   LayersBakeOptions vo = options.layers;
   vo.scene = scene;
   if (vo.alpha == ResultAlpha::kImage) vo.occluded = OccludedMode::kFill;
-  if (options.base_texture.data) vo.base = LayerBase::kNone;
+  if (vo.base == LayerBase::kMesh && options.base_texture.data) vo.base = LayerBase::kNone;
   std::vector<LayerInput> bilinear = layers;
   for (LayerInput& l : bilinear) l.filter = VertexFilter::kBilinear;
   Expected<LayersBakeResult> vertex = bake_vertex_layers(uv_mesh, bilinear, vo);
@@ -1379,13 +1407,6 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   if (Status s = AtlasBands::check(uv_mesh, raster_options, &covers); !s) return s.error();
   double raster_seconds = seconds_since(start);
 
-  // The layers ready, all at once (every band goes through every layer).
-  const bool linear = stack_linear(layers);
-  std::vector<double> own_seconds;
-  Expected<std::vector<std::unique_ptr<Prepared>>> prepared =
-      prepare_stack(layers, linear, uv_mesh.positions.size(), lo, own_seconds);
-  if (!prepared) return prepared.error();
-
   // The scene, shared by the samples' rays and the fill's vertex target;
   // the smooth normals where a layer reads them.
   start = Clock::now();
@@ -1401,8 +1422,13 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   // a stack's (its uncovered samples), or the single projection's with
   // visibility and --occluded fill (nearly every mesh then has hidden
   // samples). Otherwise the single projection's samples to fill are only
-  // the unmapped ones (a proxy's singular points): their texels wait for
-  // the pass's end, if there are any.
+  // those no lookup colours (unmapped ones: a proxy's singular points; a
+  // camera's points facing away): their texels wait for the pass's end, if
+  // there are any. The fill runs before the layers are prepared, so that
+  // their working images (a linear copy, a MIP pyramid) are not held beside
+  // the fill's own.
+  const bool linear = stack_linear(layers);
+  std::vector<double> own_seconds(layers.size(), 0.0);  // per layer: its fill, its preparation
   const bool fill = lo.occluded != OccludedMode::kColor;
   const bool fill_first =
       covers && fill &&
@@ -1416,6 +1442,17 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
     if (!colors) return colors.error();
     fill_colors = std::move(colors).value();
     result.seconds_fill = seconds_since(start);
+  }
+
+  // The layers ready, all at once (every band goes through every layer).
+  std::vector<double> prepare_seconds;
+  Expected<std::vector<std::unique_ptr<Prepared>>> prepared =
+      prepare_stack(layers, linear, uv_mesh.positions.size(), lo, prepare_seconds);
+  if (!prepared) return prepared.error();
+  double prepare_total = 0;
+  for (std::size_t l = 0; l < layers.size(); ++l) {
+    own_seconds[l] += prepare_seconds[l];
+    prepare_total += prepare_seconds[l];
   }
 
   start = Clock::now();
@@ -1523,7 +1560,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   const double busy = static_cast<double>(raster_ns.load() + sample_ns.load());
   const double raster_share = busy > 0 ? raster_ns.load() / busy : 0;
   result.seconds_raster = raster_seconds + pass_seconds * raster_share;
-  result.seconds_layers = pass_seconds * (1 - raster_share);
+  result.seconds_layers = prepare_total + pass_seconds * (1 - raster_share);
 
   // The deferred texels (each independent: their order does not matter).
   if (!deferred.empty()) {
@@ -1535,7 +1572,8 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
     result.seconds_fill += seconds_since(start);
   }
   scene->own.reset();
-  result.layers = layer_stats(layers, counts, result.samples, own_seconds, result.seconds_layers);
+  result.layers = layer_stats(layers, counts, result.samples, own_seconds,
+                              result.seconds_layers - prepare_total);
 
   start = Clock::now();
   result.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);

@@ -306,9 +306,12 @@ struct LayersAtlasResult {
   std::vector<uint8_t> baked;      // size * size: 1 where covered by the layout
   std::vector<LayerStats> layers;  // per layer, over the atlas samples
   std::size_t texels = 0, samples = 0, border_samples = 0;
-  std::size_t uncovered = 0;  // samples with coverage 0
-  std::size_t padded = 0;     // texels filled by padding
-  bool opaque = true;         // every covered texel has alpha 1
+  // kCoverage only (under ResultAlpha::kImage alpha is the image's: 0 and
+  // true): samples with coverage 0, and whether every covered texel has
+  // alpha 1.
+  std::size_t uncovered = 0;
+  std::size_t padded = 0;  // texels filled by padding
+  bool opaque = true;
   // seconds_raster and seconds_layers split the band pass's wall time by
   // the threads' time in rasterising and in the layers.
   double seconds_raster = 0, seconds_fill = 0, seconds_scene = 0, seconds_layers = 0;

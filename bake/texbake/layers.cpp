@@ -374,6 +374,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     Timings& t = out.atlas.stats.timings;
     t.fill = baked->seconds_fill;
     t.scene_build = baked->seconds_scene;
+    t.rasterize = baked->seconds_raster;
     t.bake = baked->seconds_layers;
     t.pad = baked->seconds_pad;
     t.total = seconds_since(start);

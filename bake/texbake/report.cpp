@@ -120,7 +120,7 @@ ordered_json stage_timings_json(ReportSource source, bool atlas, const Timings& 
   ordered_json j = ordered_json::object();
   if (atlas) {
     j["uv_layout"] = t.uv_layout;
-    if (source != ReportSource::kLayers) j["rasterize"] = t.rasterize;
+    j["rasterize"] = t.rasterize;
     if (source == ReportSource::kPhotos) j["vertex_photos"] = t.fill;
     if (source == ReportSource::kLayers) j["fill"] = t.fill;
   }

@@ -3,9 +3,11 @@
 // space: the stored encoding, straight alpha; outside clamp) give the same
 // 8-bit colours, byte for byte, for the vertex target under the area and
 // EWA filters and for the atlas target under EWA; and a filter that does
-// not apply to a projector is refused. The oracle is the independent proxy
-// loop (bake/engine/bake_vertex.cpp, bake/engine/bake_atlas.cpp), which has
-// its own golden tests.
+// not apply to a projector is refused. The proxy bakes are the engine's
+// single-projection rule over one layer (ResultAlpha::kImage:
+// bake/engine/bake_vertex.cpp, bake_atlas.cpp), held by their own golden
+// and reference tests; these check that a stack's coverage rule agrees
+// with it where the image is opaque, as SPEC section 10 says it must.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "bake/engine/bake_atlas.h"
+#include "bake/engine/layers_bake.h"
 #include "bake/photo/photo_atlas.h"
 #include "bake/util/parallel.h"
 #include "tests/bake/test_meshes.h"
@@ -319,6 +320,65 @@ TEST(PhotoBake, PhotoSizes) {
             "wrong.png: the photo of wrong is 640 x 640, its camera 640 x 480 (neither that size "
             "nor that aspect)");
   EXPECT_FALSE(bake_vertex_from_photos(mesh, {}, {}, wrong.reader()));
+}
+
+TEST(PhotoBake, AOneCamerasLayerUnderTheSingleProjectionRuleIsThePhotoBake) {
+  // The engine's single-projection rule over one "cameras" layer (the photo
+  // bake's blend per vertex, PhotoBakeOptions::keep_points) gives the photo
+  // bake's colours bit for bit and its fill counts: seen vertices the
+  // blend, alpha 1; the rest the fill in linear light (kProject acts as
+  // kFill) or the constant, and a component no photo sees (a square under
+  // the plane, hidden from both cameras) the constant.
+  MeshData mesh;
+  test::append_grid(mesh, 40, 40, [](double s, double t) {
+    return Float3{static_cast<float>(2 * s - 1), static_cast<float>(2 * t - 1), 0};
+  });
+  test::append_grid(mesh, 2, 2, [](double s, double t) {  // the occluder
+    return Float3{static_cast<float>(0.62 * s - 0.31), static_cast<float>(0.62 * t - 0.31), 1};
+  });
+  test::append_grid(mesh, 3, 3, [](double s, double t) {  // hidden below the plane
+    return Float3{static_cast<float>(s - 0.5), static_cast<float>(t - 0.5), -1};
+  });
+  test::faces_from_triangles(mesh);
+  Shots shots;
+  shots.add("top", down_camera(3), photo_of_plane(3, 1));
+  shots.add("side", down_camera(4, 0.3, -0.2), photo_of_plane(4, 0.7, 0.3, -0.2));
+  for (OccludedMode mode : {OccludedMode::kFill, OccludedMode::kColor, OccludedMode::kProject}) {
+    SCOPED_TRACE(static_cast<int>(mode));
+    PhotoBakeOptions o;
+    o.occluded = mode;
+    o.occluded_color = {0.25f, 0.5f, 0.75f, 1};
+    o.keep_points = true;
+    Expected<PhotoBakeResult> photo =
+        bake_vertex_from_photos(mesh, shots.photos, o, shots.reader());
+    ASSERT_TRUE(photo) << photo.error().message;
+    ASSERT_LT(photo->seen, mesh.positions.size());
+    PhotoLayerPoints points;
+    points.vertices = photo->points;
+    LayerInput in;
+    in.name = "photos";
+    in.photos = &points;
+    LayersBakeOptions lo;
+    lo.alpha = ResultAlpha::kImage;
+    lo.occluded = mode;
+    lo.occluded_color = o.occluded_color;
+    Expected<LayersBakeResult> engine = bake_vertex_layers(mesh, {in}, lo);
+    ASSERT_TRUE(engine) << engine.error().message;
+    ASSERT_EQ(engine->colors.size(), photo->colors.size());
+    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+      for (int ch = 0; ch < 4; ++ch) {
+        ASSERT_EQ(engine->colors[v][ch], photo->colors[v][ch]) << "vertex " << v << " ch " << ch;
+      }
+    }
+    EXPECT_EQ(engine->uncovered, mesh.positions.size() - photo->seen);
+    EXPECT_EQ(engine->filled, photo->filled);
+    EXPECT_EQ(engine->unfilled, photo->unfilled);
+    if (mode != OccludedMode::kColor) {
+      EXPECT_EQ(photo->unfilled, 16u);  // the hidden square
+      const std::size_t last = mesh.positions.size() - 1;
+      for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(engine->colors[last][ch], o.occluded_color[ch]);
+    }
+  }
 }
 
 TEST(PhotoBake, IdenticalWithOneAndTwoThreads) {
