@@ -156,7 +156,11 @@ enum class ResultAlpha {
   // `occluded` (kProject: its projected colour; kFill: the fill), one with
   // no mapping by the fill (or the constant under kColor). A component of
   // unknown vertices that touches no known vertex takes its projected
-  // colour, or the image's mean where it has none.
+  // colour, or the image's mean where it has none. One "cameras" layer
+  // (opacity 1, no angle fade) is the photo bake's rule instead: a seen
+  // vertex takes its blend, alpha 1; the others the fill in linear light
+  // (kProject acts as kFill) or the constant, and a component no photo
+  // sees the constant (bake/photo/photo_bake.h).
   kImage,
 };
 

@@ -191,6 +191,26 @@ TEST(AtlasBake, IndependentOfThreadCount) {
   EXPECT_EQ(one, two);
 }
 
+TEST(AtlasBake, TheVertexFiltersSettingsDoNotApply) {
+  // The atlas looks each sample up bilinearly (or by EWA): the area
+  // filter and its sample count are the vertex target's, so any value of
+  // them gives the bilinear atlas, even a count the vertex target refuses.
+  const Image img = smooth_image(256, 128);
+  const MeshData mesh = sphere_layout(12, 24);
+  AtlasBakeOptions bilinear = options(64, 4);
+  bilinear.shading.filter = VertexFilter::kBilinear;
+  Expected<AtlasBakeResult> want = bake_atlas(mesh, img.view(), unit_sphere(), bilinear);
+  ASSERT_TRUE(want) << want.error().message;
+  for (int samples : {0, 1, 16}) {
+    AtlasBakeOptions area = bilinear;
+    area.shading.filter = VertexFilter::kArea;
+    area.shading.samples = samples;
+    Expected<AtlasBakeResult> got = bake_atlas(mesh, img.view(), unit_sphere(), area);
+    ASSERT_TRUE(got) << samples << ": " << got.error().message;
+    EXPECT_EQ(got->atlas.pixels, want->atlas.pixels) << samples;
+  }
+}
+
 // Plane proxy looking down +z onto square A (z = 0, x, y in [0, 1], UVs
 // u = x / 2, v = y: the atlas's left half) under blocker B (z = 1,
 // x in [0, 0.5], UVs in the right half). A's points with x < 0.5, i.e. atlas
