@@ -40,7 +40,7 @@ Status check_padding(int padding);
 // pad_atlas: pads a size x size RGBA atlas (sRGB-encoded) whose
 // covered texels are `baked`, as `padding` says (a count >= 0,
 // kPaddingDefault or kPaddingInfinite: see the file comment). Returns the
-// texels filled. Shared with the photo atlas (bake/photo/photo_atlas.h).
+// texels filled. Shared with the photo atlas (bake/engine/photo_atlas.h).
 std::size_t pad_atlas(std::span<float> rgba, std::span<const uint8_t> baked, int size, int padding);
 
 // --filter ewa on the atlas (the proxy atlas and the layers engine share it):

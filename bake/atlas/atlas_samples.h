@@ -1,5 +1,5 @@
 // The atlas target's pieces that every kind of atlas bake shares (the
-// proxy's, bake/engine/bake_atlas.h; the photos', bake/photo/photo_atlas.h;
+// proxy's, bake/engine/bake_atlas.h; the photos', bake/engine/photo_atlas.h;
 // the layers', bake/engine/layers_bake.h), written once:
 //  - a supersample's surface point and smooth normal;
 //  - the fill's per-vertex colours interpolated at a supersample;

@@ -170,10 +170,10 @@ PhotoConsistency measure_consistency(const std::vector<uint32_t>& first,
 
 }  // namespace
 
-Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
-                                                  const std::vector<Photo>& photos,
-                                                  const PhotoBakeOptions& options,
-                                                  const PhotoReader& reader) {
+Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
+                                              const std::vector<Photo>& photos,
+                                              const PhotoBakeOptions& options,
+                                              const PhotoReader& reader) {
   if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
   // The next photo decoded while this one is baked.
   const PhotoReader read = photo_detail::prefetching_reader(
@@ -196,7 +196,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   std::vector<std::array<float, 3>> rgb(n);
   std::vector<float> mask_value;  // n, once a photo has a mask
   PhotoPoints& points = result.points;
-  if (options.keep_points) points.state.assign(n, PhotoPoints::kNoView);
+  points.state.assign(n, PhotoPoints::kNoView);
   // The photos used (readable), in order: samples and stats are numbered
   // by their place here.
   std::vector<const Photo*> used;
@@ -242,7 +242,7 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
         if (!look.candidate(p, nrm, proj)) continue;
         // Masked out: as if outside the photo (no segment traced).
         if (masked && !(photo_detail::mask_at(view, true, proj.uv) > 0)) continue;
-        if (options.keep_points) points.state[v] = PhotoPoints::kInView;
+        points.state[v] = PhotoPoints::kInView;
         candidates.push_back(static_cast<uint32_t>(v));
         projections.push_back(proj);
       }
@@ -324,12 +324,9 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   }
 
   // Blend per vertex, in linear light.
-  std::vector<Rgba> colors(n, Rgba{0, 0, 0, 1});
-  std::vector<uint8_t> unknown(n, 0);
-  if (options.keep_points) {
-    points.rgb.assign(n, {0.f, 0.f, 0.f});
-    points.cosine.assign(n, 1.f);
-  }
+  points.rgb.assign(n, {0.f, 0.f, 0.f});
+  points.cosine.assign(n, 1.f);
+  std::vector<std::size_t> seen_chunk(block_count(n, kGrain), 0);
   std::vector<std::vector<double>> share_chunk(block_count(n, kGrain),
                                                std::vector<double>(cameras, 0.0));
   parallel_for_blocks(n, kGrain, [&](std::size_t block, std::size_t begin, std::size_t end) {
@@ -337,10 +334,8 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     std::vector<double> weight;
     for (std::size_t v = begin; v < end; ++v) {
       const uint32_t s0 = first[v], s1 = first[v + 1];
-      if (s0 == s1) {
-        unknown[v] = 1;
-        continue;
-      }
+      if (s0 == s1) continue;
+      ++seen_chunk[block];
       double q_max = 0;
       uint32_t best = s0;
       for (uint32_t i = s0; i < s1; ++i) {
@@ -361,8 +356,9 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
           sum[ch] += wt * gains[samples[i].camera][ch] * samples[i].rgb[ch];
       }
       for (uint32_t i = s0; i < s1; ++i) share[samples[i].camera] += weight[i - s0] / total;
-      colors[v] = {static_cast<float>(sum[0] / total), static_cast<float>(sum[1] / total),
-                   static_cast<float>(sum[2] / total), 1};
+      points.state[v] = PhotoPoints::kSeen;
+      points.rgb[v] = {static_cast<float>(sum[0] / total), static_cast<float>(sum[1] / total),
+                       static_cast<float>(sum[2] / total)};
       if (options.keep_points) {
         const Vec3 p{mesh.positions[v].x, mesh.positions[v].y, mesh.positions[v].z};
         const Vec3 nrm{normals[v].x, normals[v].y, normals[v].z};
@@ -371,13 +367,11 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
           const Vec3 d = normalize(used[samples[i].camera]->camera.centre() - p);
           cosine += weight[i - s0] * dot(nrm, d) / length(nrm);
         }
-        points.state[v] = PhotoPoints::kSeen;
-        points.rgb[v] = {colors[v][0], colors[v][1], colors[v][2]};
         points.cosine[v] = static_cast<float>(cosine / total);
       }
     }
   });
-  result.seen = static_cast<std::size_t>(std::count(unknown.begin(), unknown.end(), 0));
+  for (std::size_t c : seen_chunk) result.seen += c;
   std::vector<double> share(cameras, 0.0);
   for (const auto& s : share_chunk) {
     for (std::size_t c = 0; c < cameras; ++c) share[c] += s[c];
@@ -386,21 +380,6 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
     result.cameras[c].weight_share = result.seen ? share[c] / static_cast<double>(result.seen) : 0;
   }
   result.seconds_blend = seconds_since(start);
-
-  // Vertices no photo sees: the fill in linear light (a component no photo
-  // sees takes the occluded colour), or the occluded colour, which is given
-  // sRGB-encoded and written as given.
-  start = Clock::now();
-  VertexResolve how;
-  how.fill = options.occluded != OccludedMode::kColor;
-  how.constant = options.occluded_color;
-  how.linear = true;
-  Expected<FillResult> fill = resolve_vertices(mesh, colors, unknown, std::move(how));
-  if (!fill) return fill.error();
-  result.filled = fill->filled;
-  result.unfilled = fill->unfilled;
-  result.colors = std::move(colors);
-  result.seconds_fill = seconds_since(start);
   return result;
 }
 

@@ -29,7 +29,10 @@
 // (the harmonic fill of bake/vertex/occlusion_fill.h by default). Results do
 // not depend on the thread count. The cull, quality, weights and photo
 // reading are bake/photo/photo_view.h's, shared with the atlas target
-// (bake/photo/photo_atlas.h), which runs this bake first.
+// (bake/engine/photo_atlas.h), which runs this bake first. The blend is
+// blend_vertex_photos below; the unseen vertices are resolved by the bake
+// engine (bake/engine/photo_vertex.h: the blend as one "cameras" layer
+// under the single projection's rule).
 #pragma once
 
 #include <array>
@@ -197,7 +200,8 @@ struct PhotoImage {
 };
 using PhotoReader = std::function<Expected<PhotoImage>(const Photo& photo)>;
 
-// Errors: a photo that cannot be read with options.strict_photos ("the
+// bake_vertex_from_photos (bake/engine/photo_vertex.h) errors: a photo
+// that cannot be read with options.strict_photos ("the
 // photo of camera NAME: " and its reader's error; else it is left out with
 // a warning), every photo left out (kIo "no usable photo: ..."), a photo
 // whose size is neither the camera's nor of the same aspect (kParse, naming
@@ -222,9 +226,16 @@ std::string photo_consistency_warning(const PhotoConsistency& c);
 // deviation 4.1 %, gains within 1.3x": the figures as one phrase.
 std::string consistency_figures(const PhotoConsistency& c);
 
-Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
-                                                  const std::vector<Photo>& photos,
-                                                  const PhotoBakeOptions& options,
-                                                  const PhotoReader& reader = {});
+// The blend per vertex (stages cull, visibility, sample, gains and blend
+// above), before any fill: result.points holds every vertex's (state, rgb;
+// cosine with options.keep_points, else 1), `seen`, the cameras' stats,
+// warnings, skipped photos and consistency; colors, filled and unfilled
+// are left empty (0). The vertex photo bake (bake/engine/photo_vertex.h)
+// is this blend as a "cameras" layer through the bake engine, which
+// resolves the unseen vertices. Errors: the above but the fill's.
+Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
+                                              const std::vector<Photo>& photos,
+                                              const PhotoBakeOptions& options,
+                                              const PhotoReader& reader = {});
 
 }  // namespace texbake

@@ -61,9 +61,10 @@
 #include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
 #include "bake/engine/bake_atlas.h"
 #include "bake/engine/layers_bake.h"
+#include "bake/engine/photo_atlas.h"
+#include "bake/engine/photo_vertex.h"
 #include "bake/fit/model_alignment.h"
 #include "bake/photo/camera_check.h"
-#include "bake/photo/photo_atlas.h"
 #include "bake/photo/photo_bake.h"
 #include "bake/photo/pose_refine.h"
 #include "bake/render/render_preview.h"
@@ -585,7 +586,7 @@ struct LayerAtlas {
 // atlas.bake.size 0 means the base texture's size (its larger side), else
 // 2048. atlas.bake.shading is not used (options holds the occluded rule;
 // the base is spec's). A "cameras" layer is the photo atlas bake's blend
-// per supersample (bake/photo/photo_atlas.h) on the same layout, before
+// per supersample (bake/engine/photo_atlas.h) on the same layout, before
 // any texel averaging, composited per sample as in the vertex target.
 // Errors: kUsage (atlas options out of range, --uv proxy, kMesh on a mesh
 // without UVs, base "mesh" as a texture with another layout), kInput (an
@@ -604,7 +605,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
 struct PhotoAtlas {
   Atlas atlas;  // mesh with the UVs, image (sRGB), uv, stats (below)
   // Per photo, over the atlas samples: in_view, visible, weight_share; the
-  // exposure gains (solved on the vertices, see bake/photo/photo_atlas.h).
+  // exposure gains (solved on the vertices, see bake/engine/photo_atlas.h).
   std::vector<PhotoCameraStats> cameras;
   std::vector<SkippedPhoto> skipped;  // photos left out (cannot be read; also warnings)
   PhotoConsistency consistency;       // measured on the vertices, as the gains
@@ -617,7 +618,7 @@ struct PhotoAtlas {
 };
 
 // The atlas target of bake --cameras (the contract of
-// bake/photo/photo_atlas.h): the UV layout of atlas.uv (kAuto, kMesh or
+// bake/engine/photo_atlas.h): the UV layout of atlas.uv (kAuto, kMesh or
 // kGenerate, as bake_atlas_texture lays it out; kProxy has no proxy here),
 // then every atlas supersample blended from the photos that see it with
 // the vertex bake's quality, blend and exposure rules, unseen samples as

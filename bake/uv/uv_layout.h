@@ -81,7 +81,7 @@ Status check_uv_layout(const MeshData& mesh, UvLayout layout);
 Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const Proxy& proxy,
                                      const UvLayoutOptions& options);
 
-// The same for a bake without a proxy (photographs: bake/photo/photo_atlas.h):
+// The same for a bake without a proxy (photographs: bake/engine/photo_atlas.h):
 // kMesh, kGenerate and kAuto as above; kProxy is kInvalidArgument ("--uv
 // proxy needs a proxy, and this bake has none ...").
 Expected<UvLayoutResult> lay_out_uvs(const MeshData& mesh, const UvLayoutOptions& options);

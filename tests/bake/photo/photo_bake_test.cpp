@@ -12,8 +12,8 @@
 #include <cmath>
 
 #include "bake/engine/bake_atlas.h"
-#include "bake/engine/layers_bake.h"
-#include "bake/photo/photo_atlas.h"
+#include "bake/engine/photo_atlas.h"
+#include "bake/engine/photo_vertex.h"
 #include "bake/util/parallel.h"
 #include "tests/bake/test_meshes.h"
 
@@ -322,13 +322,12 @@ TEST(PhotoBake, PhotoSizes) {
   EXPECT_FALSE(bake_vertex_from_photos(mesh, {}, {}, wrong.reader()));
 }
 
-TEST(PhotoBake, AOneCamerasLayerUnderTheSingleProjectionRuleIsThePhotoBake) {
-  // The engine's single-projection rule over one "cameras" layer (the photo
-  // bake's blend per vertex, PhotoBakeOptions::keep_points) gives the photo
-  // bake's colours bit for bit and its fill counts: seen vertices the
-  // blend, alpha 1; the rest the fill in linear light (kProject acts as
-  // kFill) or the constant, and a component no photo sees (a square under
-  // the plane, hidden from both cameras) the constant.
+TEST(PhotoBake, UnseenVerticesFollowTheOccludedModeAndAnUnseenComponentTakesTheColour) {
+  // SPEC section 9: vertices no photo sees follow --occluded: the fill in
+  // linear light (project acts as fill: there is nothing to project), or the
+  // colour as given; a component no photo sees at all (a square under the
+  // plane, hidden from both cameras) takes the colour under every mode.
+  // Seen vertices keep their blend whatever the mode.
   MeshData mesh;
   test::append_grid(mesh, 40, 40, [](double s, double t) {
     return Float3{static_cast<float>(2 * s - 1), static_cast<float>(2 * t - 1), 0};
@@ -340,45 +339,43 @@ TEST(PhotoBake, AOneCamerasLayerUnderTheSingleProjectionRuleIsThePhotoBake) {
     return Float3{static_cast<float>(s - 0.5), static_cast<float>(t - 0.5), -1};
   });
   test::faces_from_triangles(mesh);
+  const std::size_t hidden_first = mesh.positions.size() - 16;
   Shots shots;
   shots.add("top", down_camera(3), photo_of_plane(3, 1));
   shots.add("side", down_camera(4, 0.3, -0.2), photo_of_plane(4, 0.7, 0.3, -0.2));
-  for (OccludedMode mode : {OccludedMode::kFill, OccludedMode::kColor, OccludedMode::kProject}) {
-    SCOPED_TRACE(static_cast<int>(mode));
+  const Rgba colour{0.25f, 0.5f, 0.75f, 1};
+  std::vector<Expected<PhotoBakeResult>> r;
+  for (OccludedMode mode : {OccludedMode::kFill, OccludedMode::kProject, OccludedMode::kColor}) {
     PhotoBakeOptions o;
     o.occluded = mode;
-    o.occluded_color = {0.25f, 0.5f, 0.75f, 1};
+    o.occluded_color = colour;
     o.keep_points = true;
-    Expected<PhotoBakeResult> photo =
-        bake_vertex_from_photos(mesh, shots.photos, o, shots.reader());
-    ASSERT_TRUE(photo) << photo.error().message;
-    ASSERT_LT(photo->seen, mesh.positions.size());
-    PhotoLayerPoints points;
-    points.vertices = photo->points;
-    LayerInput in;
-    in.name = "photos";
-    in.photos = &points;
-    LayersBakeOptions lo;
-    lo.alpha = ResultAlpha::kImage;
-    lo.occluded = mode;
-    lo.occluded_color = o.occluded_color;
-    Expected<LayersBakeResult> engine = bake_vertex_layers(mesh, {in}, lo);
-    ASSERT_TRUE(engine) << engine.error().message;
-    ASSERT_EQ(engine->colors.size(), photo->colors.size());
-    for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
-      for (int ch = 0; ch < 4; ++ch) {
-        ASSERT_EQ(engine->colors[v][ch], photo->colors[v][ch]) << "vertex " << v << " ch " << ch;
-      }
-    }
-    EXPECT_EQ(engine->uncovered, mesh.positions.size() - photo->seen);
-    EXPECT_EQ(engine->filled, photo->filled);
-    EXPECT_EQ(engine->unfilled, photo->unfilled);
-    if (mode != OccludedMode::kColor) {
-      EXPECT_EQ(photo->unfilled, 16u);  // the hidden square
-      const std::size_t last = mesh.positions.size() - 1;
-      for (int ch = 0; ch < 4; ++ch) EXPECT_EQ(engine->colors[last][ch], o.occluded_color[ch]);
-    }
+    r.push_back(bake_vertex_from_photos(mesh, shots.photos, o, shots.reader()));
+    ASSERT_TRUE(r.back()) << r.back().error().message;
   }
+  const PhotoBakeResult &fill = *r[0], &project = *r[1], &constant = *r[2];
+  // The occluder's shadow on the plane, and the hidden square, are unseen.
+  ASSERT_LT(fill.seen + 16, mesh.positions.size());
+  EXPECT_EQ(fill.unfilled, 16u);
+  EXPECT_EQ(fill.filled, mesh.positions.size() - fill.seen - 16);
+  EXPECT_EQ(constant.filled, 0u);
+  std::size_t unseen = 0;
+  for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
+    SCOPED_TRACE(testing::Message() << "vertex " << v);
+    const bool seen = fill.points.state[v] == PhotoPoints::kSeen;
+    unseen += !seen;
+    for (int ch = 0; ch < 4; ++ch) {
+      ASSERT_EQ(project.colors[v][ch], fill.colors[v][ch]);  // project acts as fill
+      if (seen) {
+        ASSERT_EQ(constant.colors[v][ch], fill.colors[v][ch]);  // the blend, whatever the mode
+      } else {
+        ASSERT_EQ(constant.colors[v][ch], colour[ch]);  // the colour as given
+      }
+      if (v >= hidden_first) ASSERT_EQ(fill.colors[v][ch], colour[ch]);
+    }
+    if (seen) EXPECT_EQ(fill.colors[v][3], 1.f);  // the blend is opaque
+  }
+  EXPECT_EQ(unseen, mesh.positions.size() - fill.seen);
 }
 
 TEST(PhotoBake, IdenticalWithOneAndTwoThreads) {

@@ -12,7 +12,8 @@
 #include <cmath>
 #include <filesystem>
 
-#include "bake/photo/photo_atlas.h"
+#include "bake/engine/photo_atlas.h"
+#include "bake/engine/photo_vertex.h"
 #include "bake/photo/photo_bake.h"
 #include "mesh_io/image_io.h"
 #include "tests/bake/test_meshes.h"

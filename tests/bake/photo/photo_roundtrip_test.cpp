@@ -3,7 +3,7 @@
 // only: ambient 1, no diffuse or specular) from known views; each view is a
 // COLMAP PINHOLE camera (pinhole_of_view); the renders, as photos, baked
 // back onto the bunny must match the direct vertex bake on the vertices the
-// photos see; the photo atlas (bake/photo/photo_atlas.h) must match the
+// photos see; the photo atlas (bake/engine/photo_atlas.h) must match the
 // direct (proxy) atlas on the same UVs on the texels both see. Also with
 // every photo's exposure scaled in linear light: the gains recover the
 // inverse scales, and both bakes match the unscaled ones (not so with
@@ -16,7 +16,7 @@
 #include <numeric>
 
 #include "bake/atlas/atlas_raster.h"
-#include "bake/photo/photo_atlas.h"
+#include "bake/engine/photo_atlas.h"
 #include "bake/util/parallel.h"
 #include "mapping/sample.h"
 #include "texbake/texbake.h"

@@ -1,4 +1,4 @@
-#include "bake/photo/photo_atlas.h"
+#include "bake/engine/photo_atlas.h"
 
 #include <algorithm>
 #include <array>
@@ -8,6 +8,7 @@
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/atlas_samples.h"
+#include "bake/engine/photo_vertex.h"
 #include "bake/photo/photo_view.h"
 #include "bake/photo/segments.h"
 #include "bake/trace/embree_scene.h"
