@@ -738,6 +738,19 @@ struct StackPass {
   bool image_alpha = false;  // ResultAlpha::kImage
 };
 
+// The stack's fields of a pass.
+void set_stack(StackPass& pass, const MeshData& mesh, const std::vector<LayerInput>& layers,
+               const std::vector<std::unique_ptr<Prepared>>& prepared, const StackScene& scene,
+               const std::vector<Float3>& normals, bool image_alpha) {
+  pass.mesh = &mesh;
+  pass.layers = &layers;
+  pass.prepared = &prepared;
+  pass.scene = &scene;
+  pass.normals = &normals;
+  pass.frame.mesh = &mesh;
+  pass.image_alpha = image_alpha;
+}
+
 // What the vertex target's blocks read and write.
 struct VertexPass : StackPass {
   const std::vector<uint32_t>* order = nullptr;  // empty: index order
@@ -910,16 +923,10 @@ Expected<LayersVertexStage> bake_vertex_layers_sample(const MeshData& mesh,
   // Per block and layer, so that the sums are taken in block order.
   std::vector<LayerCounts> counts(block_count(n, kGrain) * layers.size());
   VertexPass pass;
-  pass.mesh = &mesh;
-  pass.layers = &layers;
-  pass.prepared = &*prepared;
-  pass.scene = &*scene;
-  pass.normals = &normals;
-  pass.frame.mesh = &mesh;
+  set_stack(pass, mesh, layers, *prepared, *scene, normals, image_alpha);
   pass.frame.vertices = true;
   pass.frame.adjacency = shares ? &adjacency : nullptr;
   pass.order = &order;
-  pass.image_alpha = image_alpha;
   pass.colour = &colour;
   pass.state = &state;
   pass.counts = &counts;
@@ -1470,14 +1477,8 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   result.baked.assign(static_cast<std::size_t>(n) * n, 0);
   std::vector<float> base_premultiplied;
   AtlasPass pass;
-  pass.mesh = &uv_mesh;
-  pass.layers = &layers;
-  pass.prepared = &*prepared;
-  pass.scene = &*scene;
-  pass.normals = &normals;
-  pass.frame.mesh = &uv_mesh;
+  set_stack(pass, uv_mesh, layers, *prepared, *scene, normals, image_alpha);
   pass.frame.cell = ewa_cell(options.size, options.samples);
-  pass.image_alpha = image_alpha;
   pass.linear = linear;
   pass.overlaps = overlaps;
   pass.spt = static_cast<std::size_t>(options.samples);
