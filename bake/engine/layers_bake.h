@@ -208,7 +208,7 @@ struct LayerStats {
 
 struct LayersBakeResult {
   // Per vertex, sRGB-encoded RGB, straight alpha = coverage (ResultAlpha::kImage:
-  // the image's alpha).
+  // the image's alpha; a "cameras" layer's 1, or the --occluded colour's).
   std::vector<Rgba> colors;
   std::vector<LayerStats> layers;
   std::size_t uncovered = 0;  // vertices with coverage 0 (kImage: the unknown vertices)
@@ -219,7 +219,8 @@ struct LayersBakeResult {
 
 // Errors: kInvalidArgument (no layers; base "mesh" on a mesh without vertex
 // colours; an empty texture; under ResultAlpha::kImage a stack that is not
-// one bare layer in the stored encoding or straight linear light),
+// one bare layer: in the stored encoding or straight linear light, or one
+// "cameras" layer),
 // kParse (a tiled texture's tiles could not be read), kInternal (Embree, the fill), kCancelled
 // (progress's callback returned false: the remaining blocks and the fill
 // are skipped). progress may be null; it hears the stages "bake" (the

@@ -24,12 +24,20 @@ Expected<PhotoBakeResult> bake_vertex_from_photos(const MeshData& mesh,
   stack.alpha = ResultAlpha::kImage;
   stack.occluded = options.occluded;
   stack.occluded_color = options.occluded_color;
-  Expected<LayersBakeResult> resolved = bake_vertex_layers(mesh, {layer}, stack);
+  Expected<LayersVertexStage> stage = bake_vertex_layers_sample(mesh, {layer}, stack);
+  if (!stage) return stage.error();
+  // The blend is read: kept for the caller, or freed before the fill's solve.
+  if (options.keep_points) {
+    result.points = std::move(points.vertices);
+  } else {
+    result.points = {};
+    points.vertices = {};
+  }
+  Expected<LayersBakeResult> resolved = bake_vertex_layers_finish(mesh, std::move(*stage));
   if (!resolved) return resolved.error();
   result.colors = std::move(resolved->colors);
   result.filled = resolved->filled;
   result.unfilled = resolved->unfilled;
-  if (options.keep_points) result.points = std::move(points.vertices);
   result.seconds_fill = seconds_since(start);
   return std::move(result);
 }

@@ -13,7 +13,6 @@
 #include "bake/trace/visibility.h"
 #include "bake/util/parallel.h"
 #include "bake/util/timing.h"
-#include "bake/vertex/vertex_resolve.h"
 #include "mapping/image_view.h"
 #include "mesh_io/vertex_normals.h"
 

@@ -95,7 +95,9 @@ struct PhotoBakeOptions {
   // How the photos' colour space is taken (--texture-colorspace).
   TextureColorSpace color_space = TextureColorSpace::kAuto;
   // Keep the blend per point (PhotoPoints below: a "cameras" layer,
-  // bake/engine/layers_bake.h, composites it instead of the colours).
+  // bake/engine/layers_bake.h, composites it instead of the colours): the
+  // bakes return it, with the blend's cosines (blend_vertex_photos always
+  // gives the states and colours; their cosines only with this).
   bool keep_points = false;
   // Called with each photo the bake uses (its index among them, as in
   // PhotoBakeResult::cameras), its image as loaded (linear light, alpha its
@@ -120,8 +122,8 @@ struct SkippedPhoto {
   std::string reason;          // the reader's error
 };
 
-// The blend of every point (vertex, or atlas supersample) before any fill,
-// with PhotoBakeOptions::keep_points: what a "cameras" layer composites.
+// The blend of every point (vertex, or atlas supersample) before any fill
+// (PhotoBakeOptions::keep_points): what a "cameras" layer composites.
 struct PhotoPoints {
   enum State : uint8_t {
     kNoView = 0,  // in no camera's view (outside every photo, behind, or turned away)
@@ -185,7 +187,9 @@ struct PhotoBakeResult {
   // Photos left out (unreadable), in photo order; `cameras` has the others'
   // entries only, in photo order.
   std::vector<SkippedPhoto> skipped;
-  PhotoPoints points;  // per vertex, with PhotoBakeOptions::keep_points (else empty)
+  // Per vertex: bake_vertex_from_photos with PhotoBakeOptions::keep_points
+  // (else empty); blend_vertex_photos always (cosine 1 without keep_points).
+  PhotoPoints points;
   PhotoConsistency consistency;
   double seconds_scene = 0, seconds_photos = 0, seconds_blend = 0, seconds_fill = 0;
 };

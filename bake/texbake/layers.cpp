@@ -220,8 +220,9 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
     if (Status s = bake_layer_photos(
             *photos, progress, *inputs, blends, photo_seconds,
             [&](std::size_t i, const std::vector<Photo>& p, PhotoLayerPoints& b) -> Status {
+              // The blend alone: the layer composites it, the engine resolves.
               Expected<PhotoBakeResult> blend =
-                  bake_vertex_from_photos(mesh, p, layer_photo_options(options));
+                  blend_vertex_photos(mesh, p, layer_photo_options(options));
               if (!blend) return blend.error();
               add_photo_warnings(i, blend->warnings, out.stats.warnings);
               skipped[i] = std::move(blend->skipped);

@@ -1,6 +1,6 @@
 // The vertex target's last step, written once for every kind of bake (a
-// proxy, bake/engine/bake_vertex.h; photos, bake/photo/photo_bake.h; layers,
-// bake/engine/layers_bake.h): what becomes of the vertices the projections
+// proxy, bake/engine/bake_vertex.h; photos, bake/engine/photo_vertex.h;
+// layers, bake/engine/layers_bake.h): what becomes of the vertices the projections
 // left without a colour (SPEC section 3 --occluded, section 10 `occluded`),
 // and the colours' way back to the sRGB encoding.
 //
