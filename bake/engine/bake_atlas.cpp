@@ -1,6 +1,6 @@
 // The proxy atlas bake: the engine's atlas target (bake/engine/layers_bake.h)
 // over a one-layer stack under ResultAlpha::kImage, the single projection's
-// rules (SPEC section 4). tests/bake/engine/bake_atlas_test.cpp and
+// rules (SPEC section 4). tests/bake/atlas/atlas_bake_test.cpp and
 // atlas_stream_test.cpp check it against independent references.
 #include "bake/engine/bake_atlas.h"
 
