@@ -334,7 +334,8 @@ void photo_block(const Prepared& layer, const uint32_t* ids, const PointFrame& f
     c.seen = true;
     c.coloured = true;
     c.rgb = points.rgb[id];
-    c.a = static_cast<float>(in.opacity) * fade(layer, points.cosine[id]);
+    // Cosines are needed by an angle fade only (prepare checks them).
+    c.a = static_cast<float>(in.opacity) * (in.angle_fade ? fade(layer, points.cosine[id]) : 1.f);
   }
 }
 
@@ -424,8 +425,9 @@ Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
   }
   if (in.photos) {
     const PhotoLayerPoints& p = *in.photos;
-    const auto complete = [](const PhotoPoints& pts, std::size_t n) {
-      return pts.state.size() == n && pts.rgb.size() == n && pts.cosine.size() == n;
+    const auto complete = [&in](const PhotoPoints& pts, std::size_t n) {
+      return pts.state.size() == n && pts.rgb.size() == n &&
+             (pts.cosine.size() == n || (pts.cosine.empty() && !in.angle_fade));
     };
     if (!complete(p.vertices, vertex_count) ||
         (sample_count > 0 && !complete(p.samples, sample_count))) {
@@ -1323,7 +1325,8 @@ Expected<std::vector<Rgba>> atlas_fill_colors(const MeshData& uv_mesh,
                                               const std::vector<LayerInput>& layers,
                                               const LayersAtlasOptions& options,
                                               const EmbreeScene* scene, bool linear,
-                                              std::vector<double>& seconds) {
+                                              std::vector<double>& seconds,
+                                              LayersAtlasResult& counts) {
   LayersBakeOptions vo = options.layers;
   vo.scene = scene;
   if (vo.alpha == ResultAlpha::kImage) vo.occluded = OccludedMode::kFill;
@@ -1333,6 +1336,8 @@ Expected<std::vector<Rgba>> atlas_fill_colors(const MeshData& uv_mesh,
   Expected<LayersBakeResult> vertex = bake_vertex_layers(uv_mesh, bilinear, vo);
   if (!vertex) return vertex.error();
   for (std::size_t l = 0; l < layers.size(); ++l) seconds[l] += vertex->layers[l].seconds;
+  counts.vertices_filled = vertex->filled;
+  counts.vertices_unfilled = vertex->unfilled;
   std::vector<Rgba> colors = std::move(vertex->colors);
   for (Rgba& c : colors) c = to_work(c, linear);
   return colors;
@@ -1428,7 +1433,8 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   // The fill before the pass, so each streamed texel is final once written:
   // a stack's (its uncovered samples), or the single projection's with
   // visibility and --occluded fill (nearly every mesh then has hidden
-  // samples). Otherwise the single projection's samples to fill are only
+  // samples), or with a "cameras" layer (its unseen samples: most meshes
+  // have some; kProject acts as kFill). Otherwise the single projection's samples to fill are only
   // those no lookup colours (unmapped ones: a proxy's singular points; a
   // camera's points facing away): their texels wait for the pass's end, if
   // there are any. The fill runs before the layers are prepared, so that
@@ -1437,15 +1443,15 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   const bool linear = stack_linear(layers);
   std::vector<double> own_seconds(layers.size(), 0.0);  // per layer: its fill, its preparation
   const bool fill = lo.occluded != OccludedMode::kColor;
-  const bool fill_first =
-      covers && fill &&
-      (!image_alpha || (lo.occluded == OccludedMode::kFill && scene->scene() != nullptr));
+  const bool fill_first = covers && fill &&
+                          (!image_alpha || layers[0].photos != nullptr ||
+                           (lo.occluded == OccludedMode::kFill && scene->scene() != nullptr));
   std::vector<Rgba> fill_colors;
   if (fill_first) {
     if (is_cancelled(progress)) return cancelled_error();
     start = Clock::now();
     Expected<std::vector<Rgba>> colors =
-        atlas_fill_colors(uv_mesh, layers, options, scene->scene(), linear, own_seconds);
+        atlas_fill_colors(uv_mesh, layers, options, scene->scene(), linear, own_seconds, result);
     if (!colors) return colors.error();
     fill_colors = std::move(colors).value();
     result.seconds_fill = seconds_since(start);
@@ -1567,7 +1573,7 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   if (!deferred.empty()) {
     start = Clock::now();
     Expected<std::vector<Rgba>> colors =
-        atlas_fill_colors(uv_mesh, layers, options, scene->scene(), linear, own_seconds);
+        atlas_fill_colors(uv_mesh, layers, options, scene->scene(), linear, own_seconds, result);
     if (!colors) return colors.error();
     finish_deferred(pass, deferred, *colors);
     result.seconds_fill += seconds_since(start);

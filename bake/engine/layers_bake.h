@@ -72,7 +72,8 @@ namespace texbake {
 // cameras (PhotoPoints::cosine), image alpha and mask 1; a point in no
 // camera's view (kNoView) is outside (transparent, or the layer's outside
 // colour), one occluded from every camera (kInView) not seen. The stats:
-// in domain = in some camera's view, visible = seen.
+// in domain = in some camera's view, visible = seen. The cosines may be
+// empty when the layer has no angle fade.
 struct PhotoLayerPoints {
   PhotoPoints vertices;  // per vertex of the mesh (for the atlas: of uv_mesh, for the fill)
   PhotoPoints samples;   // the atlas target: per supersample, texel-major
@@ -317,6 +318,9 @@ struct LayersAtlasResult {
   std::size_t uncovered = 0;
   std::size_t padded = 0;  // texels filled by padding
   bool opaque = true;
+  // The fill's vertex target (when a fill ran): its vertices filled, and
+  // those in components it could not reach.
+  std::size_t vertices_filled = 0, vertices_unfilled = 0;
   // seconds_raster and seconds_layers split the band pass's wall time by
   // the threads' time in rasterising and in the layers.
   double seconds_raster = 0, seconds_fill = 0, seconds_scene = 0, seconds_layers = 0;

@@ -8,7 +8,7 @@
 
 #include "bake/atlas/atlas_raster.h"
 #include "bake/atlas/atlas_samples.h"
-#include "bake/engine/photo_vertex.h"
+#include "bake/engine/layers_bake.h"
 #include "bake/photo/photo_view.h"
 #include "bake/photo/segments.h"
 #include "bake/trace/embree_scene.h"
@@ -29,7 +29,6 @@ using photo_detail::CameraLook;
 // camera's bitset is written by one block only.
 constexpr std::size_t kBlock = 4096;
 static_assert(kBlock % 64 == 0);
-constexpr std::size_t kTexelBlock = 1024;  // texels per block of stage 6
 
 // Sample s of the raster on the surface.
 SurfaceSample surface_point(const MeshData& mesh, const std::vector<Float3>& normals,
@@ -163,18 +162,205 @@ ImageView view_of(const std::optional<PhotoImage>& image) {
   return image ? ImageView{image->width, image->height, image->pixels.data()} : ImageView{};
 }
 
+// What the passes of one blend share.
+struct BlendContext {
+  const MeshData& mesh;
+  const std::vector<Float3>& normals;
+  const AtlasRaster& raster;
+  const std::vector<Photo>& photos;
+  const PhotoBakeOptions& options;
+  const PhotoReader& read;
+  const std::vector<std::optional<KeptMask>>& kept_masks;  // per photo
+  const std::vector<PhotoCameraStats>& cameras;            // per photo (masked)
+};
+
+// The per-sample state of stages 3 to 5.
+struct SampleWeights {
+  std::vector<float> q_max, total;
+  std::vector<uint32_t> best;                  // kBest: the best camera
+  std::vector<std::vector<uint64_t>> seen_by;  // per camera, one bit per sample
+};
+
+// Stage 3, per camera: the cull, the segments to the camera traced, q_max
+// and (kBest, kMean) the weight sums; `state` kInView for the culled-in
+// samples; the cameras' in_view and visible.
+Status geometry_pass(const BlendContext& ctx, const EmbreeScene& scene, SampleWeights& w,
+                     std::vector<uint8_t>& state, std::vector<PhotoCameraStats>& cameras) {
+  const AtlasRaster& raster = ctx.raster;
+  const PhotoBakeOptions& po = ctx.options;
+  const std::size_t ns = raster.sample_count();
+  const std::size_t blocks = block_count(ns, kBlock);
+  const double offset = visibility_offset(scene);
+  for (std::size_t c = 0; c < ctx.photos.size(); ++c) {
+    const CameraLook look(ctx.photos[c].camera, po.max_view_angle_deg);
+    const bool masked = ctx.cameras[c].masked;
+    Expected<std::optional<PhotoImage>> mask_image =
+        read_for_mask(ctx.photos[c], ctx.read, masked, ctx.kept_masks[c]);
+    if (!mask_image) return mask_image.error();
+    const ImageView mask_view = view_of(*mask_image);
+    std::vector<uint64_t>& bits = w.seen_by[c];
+    bits.assign((ns + 63) / 64, 0);
+    std::vector<std::size_t> in_view(blocks, 0), visible(blocks, 0);
+    const std::vector<uint8_t> facing = facing_triangles(ctx.mesh, look.centre());
+    parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
+      std::vector<uint32_t> candidates;
+      std::vector<Vec3> points;
+      std::vector<SurfaceSample> surface;
+      std::vector<CameraProjection> projections;
+      std::vector<float> mask;  // masked photos: the mask value per candidate
+      SegmentScratch scratch;
+      std::vector<uint8_t> occluded;
+      for (std::size_t s = begin; s < end; ++s) {
+        if (!facing[raster.sample_triangle[s]]) continue;  // candidate() would say no
+        const SurfaceSample sp = surface_point(ctx.mesh, ctx.normals, raster, s);
+        CameraProjection proj;
+        if (!candidate(look, sp, proj)) continue;
+        const float m = photo_detail::mask_at(mask_view, masked, proj.uv);
+        if (!(m > 0)) continue;  // masked out: as if outside the photo
+        state[s] = PhotoPoints::kInView;
+        candidates.push_back(static_cast<uint32_t>(s));
+        points.push_back(sp.p);
+        surface.push_back(sp);
+        projections.push_back(proj);
+        mask.push_back(m);
+      }
+      const std::size_t m = candidates.size();
+      occluded.assign(m, 0);
+      occluded_segments(scene, offset, points, look.centre(), scratch, occluded.data());
+      std::size_t seen = 0;
+      for (std::size_t i = 0; i < m; ++i) {
+        if (occluded[i]) continue;
+        ++seen;
+        const std::size_t s = candidates[i];
+        bits[s >> 6] |= uint64_t{1} << (s & 63);
+        const float q = look.quality(surface[i].p, surface[i].n, projections[i]);
+        if (q > w.q_max[s]) {
+          w.q_max[s] = q;
+          if (!w.best.empty()) {
+            w.best[s] = static_cast<uint32_t>(c);
+            w.total[s] = mask[i];  // kBest: the weight sum is the best view's mask
+          }
+        }
+        if (po.blend == PhotoBlend::kMean) w.total[s] += mask[i];
+      }
+      in_view[block] = m;
+      visible[block] = seen;
+    });
+    for (std::size_t b = 0; b < blocks; ++b) {
+      cameras[c].in_view += in_view[b];
+      cameras[c].visible += visible[b];
+    }
+  }
+  return ok_status();
+}
+
+// Stage 4 (kSoft): the weight sums, a masked photo read again.
+Status weight_pass(const BlendContext& ctx, SampleWeights& w) {
+  const std::size_t ns = ctx.raster.sample_count();
+  for (std::size_t c = 0; c < ctx.photos.size(); ++c) {
+    const Photo& photo = ctx.photos[c];
+    const CameraLook look(photo.camera, ctx.options.max_view_angle_deg);
+    const bool masked = ctx.cameras[c].masked;
+    Expected<std::optional<PhotoImage>> mask_image =
+        read_for_mask(photo, ctx.read, masked, ctx.kept_masks[c]);
+    if (!mask_image) return mask_image.error();
+    const ImageView mask_view = view_of(*mask_image);
+    parallel_for_blocks(ns, kBlock, [&](std::size_t, std::size_t begin, std::size_t end) {
+      for_each_seen(w.seen_by[c], begin, end, [&](std::size_t s) {
+        const SurfaceSample sp = surface_point(ctx.mesh, ctx.normals, ctx.raster, s);
+        const CameraProjection proj = photo.camera.project(sp.p);
+        w.total[s] += static_cast<float>(
+            blend_weight(PhotoBlend::kSoft, look.quality(sp.p, sp.n, proj), w.q_max[s], false) *
+            photo_detail::mask_at(mask_view, masked, proj.uv));
+      });
+    });
+  }
+  return ok_status();
+}
+
+// Stage 5, one photo at a time (the next one decoded meanwhile): the
+// colours (and with `cosine` not empty the cosines) of the samples; the
+// cameras' weight shares (unnormalised).
+Status colour_pass(const BlendContext& ctx, SampleWeights& w, PhotoPoints& points,
+                   std::vector<PhotoCameraStats>& cameras) {
+  const PhotoBakeOptions& po = ctx.options;
+  const std::size_t ns = ctx.raster.sample_count();
+  const std::size_t blocks = block_count(ns, kBlock);
+  const PhotoReader read_in_order = photo_detail::prefetching_reader(ctx.read, ctx.photos);
+  std::vector<std::array<float, 3>>& rgb = points.rgb;
+  std::vector<float>& cosine = points.cosine;
+  for (std::size_t c = 0; c < ctx.photos.size(); ++c) {
+    const Photo& photo = ctx.photos[c];
+    PhotoCameraStats scratch_stats;
+    std::vector<std::string> scratch_warnings;  // the vertex bake gave them
+    bool unreadable = false;                    // read by stage 1 already: now an error
+    Expected<PhotoImage> image =
+        photo_detail::load_photo(photo, read_in_order, scratch_stats, scratch_warnings, unreadable);
+    if (!image) {
+      return unreadable ? photo_detail::unreadable_photo_error(photo, image.error())
+                        : image.error();
+    }
+    const ImageView view{image->width, image->height, image->pixels.data()};
+    const bool masked = cameras[c].masked;
+    const CameraLook look(photo.camera, po.max_view_angle_deg);
+    const std::vector<uint64_t>& bits = w.seen_by[c];
+    const std::array<double, 3> gain = cameras[c].gain;
+    std::vector<double> share(blocks, 0.0);
+    parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
+      double block_share = 0;
+      for_each_seen(bits, begin, end, [&](std::size_t s) {
+        const SurfaceSample sp = surface_point(ctx.mesh, ctx.normals, ctx.raster, s);
+        const CameraProjection proj = photo.camera.project(sp.p);
+        const bool is_best = !w.best.empty() && w.best[s] == c;
+        // x: the colour and the mask value m (photo_view.h's sample_masked).
+        const Rgba x = photo_detail::sample_masked(view, masked, proj.uv);
+        const double weight =
+            blend_weight(po.blend, look.quality(sp.p, sp.n, proj), w.q_max[s], is_best) * x[3] /
+            w.total[s];
+        if (!(weight > 0)) return;
+        for (int ch = 0; ch < 3; ++ch) {
+          rgb[s][ch] += static_cast<float>(weight * gain[ch] * x[ch]);
+        }
+        if (!cosine.empty()) {
+          cosine[s] += static_cast<float>(weight * dot(sp.n, normalize(look.centre() - sp.p)));
+        }
+        block_share += weight;
+      });
+      share[block] = block_share;
+    });
+    double sum = 0;
+    for (double v : share) sum += v;
+    cameras[c].weight_share = sum;
+    w.seen_by[c] = {};  // no pass needs this camera's bits any more
+  }
+  return ok_status();
+}
+
+// The photos stage 1 read (all_photos less `skipped`, in order).
+std::vector<Photo> readable_photos(const std::vector<Photo>& all_photos,
+                                   const std::vector<SkippedPhoto>& skipped) {
+  std::vector<Photo> readable;
+  for (std::size_t p = 0, k = 0; p < all_photos.size(); ++p) {
+    if (k < skipped.size() && skipped[k].path == all_photos[p].path &&
+        skipped[k].name == all_photos[p].name) {
+      ++k;
+      continue;
+    }
+    readable.push_back(all_photos[p]);
+  }
+  return readable;
+}
+
 }  // namespace
 
-Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
-                                                      const std::vector<Photo>& all_photos,
-                                                      const PhotoAtlasBakeOptions& options,
-                                                      const PhotoReader& reader) {
+Expected<PhotoAtlasBlend> blend_atlas_photos(const MeshData& uv_mesh,
+                                             const std::vector<Photo>& all_photos,
+                                             const PhotoAtlasBakeOptions& options,
+                                             const PhotoReader& reader) {
   if (all_photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
-  if (Status s = check_padding(options.padding); !s) return s.error();
   const PhotoReader read = reader ? reader : PhotoReader(photo_detail::read_photo_file);
   const PhotoBakeOptions& po = options.photo;
-  const bool fill = po.occluded != OccludedMode::kColor;
-  PhotoAtlasBakeResult result;
+  PhotoAtlasBlend result;
 
   // 2 first (cheap, and its errors are the layout's): rasterise.
   auto t0 = Clock::now();
@@ -189,7 +375,7 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   result.border_samples = raster.border_samples;
   result.seconds_rasterize = seconds_since(t0);
 
-  // 1. The vertex photo bake: the gains, and the per-vertex colours of the fill.
+  // 1. The vertex blend: the gains, and the per-vertex blend of the fill.
   t0 = Clock::now();
   // Its photos' masks kept for stages 3 and 4 (indexed as result.cameras).
   std::vector<std::optional<KeptMask>> kept_masks;
@@ -198,34 +384,19 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     if (kept_masks.size() <= c) kept_masks.resize(c + 1);
     if (masked) kept_masks[c] = keep_mask(image);
   };
-  Expected<PhotoBakeResult> vertex =
-      bake_vertex_from_photos(uv_mesh, all_photos, vertex_options, read);
+  Expected<PhotoBakeResult> vertex = blend_vertex_photos(uv_mesh, all_photos, vertex_options, read);
   if (!vertex) return vertex.error();
   // The photos stage 1 could read (it left the others out, with warnings).
   result.skipped = std::move(vertex->skipped);
   std::vector<Photo> readable;
-  for (std::size_t p = 0, k = 0; p < all_photos.size(); ++p) {
-    if (k < result.skipped.size() && result.skipped[k].path == all_photos[p].path &&
-        result.skipped[k].name == all_photos[p].name) {
-      ++k;
-      continue;
-    }
-    if (!result.skipped.empty()) readable.push_back(all_photos[p]);
-  }
+  if (!result.skipped.empty()) readable = readable_photos(all_photos, result.skipped);
   const std::vector<Photo>& photos = result.skipped.empty() ? all_photos : readable;
   kept_masks.resize(photos.size());
   result.cameras = std::move(vertex->cameras);
   result.consistency = vertex->consistency;
   result.warnings = std::move(vertex->warnings);
   result.vertices_seen = vertex->seen;
-  result.vertices_filled = vertex->filled;
-  result.vertices_unfilled = vertex->unfilled;
-  result.vertex_points = std::move(vertex->points);
-  std::vector<Rgba> fill_colors;  // linear light
-  if (fill) {
-    fill_colors = std::move(vertex->colors);
-    for (Rgba& c : fill_colors) c = srgb_to_linear(c);
-  }
+  result.points.vertices = std::move(vertex->points);
   vertex = PhotoBakeResult{};
   for (PhotoCameraStats& s : result.cameras) s.in_view = s.visible = 0, s.weight_share = 0;
   result.seconds_vertex = seconds_since(t0);
@@ -237,217 +408,105 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
     if (!built) return built.error();
     scene.emplace(std::move(*built));
   }
-  const double offset = visibility_offset(*scene);
   const std::vector<Float3> normals = smooth_vertex_normals(uv_mesh);
   result.seconds_scene = seconds_since(t0);
 
   // 3. Geometry pass.
   t0 = Clock::now();
-  const std::size_t blocks = block_count(ns, kBlock);
-  const std::size_t words = (ns + 63) / 64;
-  std::vector<float> q_max(ns, 0.f), total(ns, 0.f);
-  std::vector<uint32_t> best;
-  if (po.blend == PhotoBlend::kBest) best.assign(ns, 0);
-  std::vector<std::vector<uint64_t>> seen_by(photos.size());
-  PhotoPoints& blend = result.sample_points;
-  if (po.keep_points) blend.state.assign(ns, PhotoPoints::kNoView);
-  for (std::size_t c = 0; c < photos.size(); ++c) {
-    const CameraLook look(photos[c].camera, po.max_view_angle_deg);
-    const bool masked = result.cameras[c].masked;
-    Expected<std::optional<PhotoImage>> mask_image =
-        read_for_mask(photos[c], read, masked, kept_masks[c]);
-    if (!mask_image) return mask_image.error();
-    const ImageView mask_view = view_of(*mask_image);
-    std::vector<uint64_t>& bits = seen_by[c];
-    bits.assign(words, 0);
-    std::vector<std::size_t> in_view(blocks, 0), visible(blocks, 0);
-    const std::vector<uint8_t> facing = facing_triangles(uv_mesh, look.centre());
-    parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
-      std::vector<uint32_t> candidates;
-      std::vector<Vec3> points;
-      std::vector<SurfaceSample> surface;
-      std::vector<CameraProjection> projections;
-      std::vector<float> mask;  // masked photos: the mask value per candidate
-      SegmentScratch scratch;
-      std::vector<uint8_t> occluded;
-      for (std::size_t s = begin; s < end; ++s) {
-        if (!facing[raster.sample_triangle[s]]) continue;  // candidate() would say no
-        const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
-        CameraProjection proj;
-        if (!candidate(look, sp, proj)) continue;
-        const float m = photo_detail::mask_at(mask_view, masked, proj.uv);
-        if (!(m > 0)) continue;  // masked out: as if outside the photo
-        if (po.keep_points) blend.state[s] = PhotoPoints::kInView;
-        candidates.push_back(static_cast<uint32_t>(s));
-        points.push_back(sp.p);
-        surface.push_back(sp);
-        projections.push_back(proj);
-        mask.push_back(m);
-      }
-      const std::size_t m = candidates.size();
-      occluded.assign(m, 0);
-      occluded_segments(*scene, offset, points, look.centre(), scratch, occluded.data());
-      std::size_t seen = 0;
-      for (std::size_t i = 0; i < m; ++i) {
-        if (occluded[i]) continue;
-        ++seen;
-        const std::size_t s = candidates[i];
-        bits[s >> 6] |= uint64_t{1} << (s & 63);
-        const float q = look.quality(surface[i].p, surface[i].n, projections[i]);
-        if (q > q_max[s]) {
-          q_max[s] = q;
-          if (!best.empty()) {
-            best[s] = static_cast<uint32_t>(c);
-            total[s] = mask[i];  // kBest: the weight sum is the best view's mask
-          }
-        }
-        if (po.blend == PhotoBlend::kMean) total[s] += mask[i];
-      }
-      in_view[block] = m;
-      visible[block] = seen;
-    });
-    for (std::size_t b = 0; b < blocks; ++b) {
-      result.cameras[c].in_view += in_view[b];
-      result.cameras[c].visible += visible[b];
-    }
+  const BlendContext ctx{uv_mesh, normals, raster, photos, po, read, kept_masks, result.cameras};
+  SampleWeights weights;
+  weights.q_max.assign(ns, 0.f);
+  weights.total.assign(ns, 0.f);
+  if (po.blend == PhotoBlend::kBest) weights.best.assign(ns, 0);
+  weights.seen_by.resize(photos.size());
+  PhotoPoints& points = result.points.samples;
+  points.state.assign(ns, PhotoPoints::kNoView);
+  if (Status s = geometry_pass(ctx, *scene, weights, points.state, result.cameras); !s) {
+    return s.error();
   }
   scene.reset();  // the BVH is not needed any more
   result.seconds_geometry = seconds_since(t0);
 
-  // 4. Weight sums (kBest and kMean: stage 3's), a masked photo read again.
+  // 4. and 5.
   t0 = Clock::now();
   if (po.blend == PhotoBlend::kSoft) {
-    for (std::size_t c = 0; c < photos.size(); ++c) {
-      const CameraLook look(photos[c].camera, po.max_view_angle_deg);
-      const bool masked = result.cameras[c].masked;
-      Expected<std::optional<PhotoImage>> mask_image =
-          read_for_mask(photos[c], read, masked, kept_masks[c]);
-      if (!mask_image) return mask_image.error();
-      const ImageView mask_view = view_of(*mask_image);
-      const std::vector<uint64_t>& bits = seen_by[c];
-      parallel_for_blocks(ns, kBlock, [&](std::size_t, std::size_t begin, std::size_t end) {
-        for_each_seen(bits, begin, end, [&](std::size_t s) {
-          const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
-          const CameraProjection proj = photos[c].camera.project(sp.p);
-          total[s] += static_cast<float>(
-              blend_weight(PhotoBlend::kSoft, look.quality(sp.p, sp.n, proj), q_max[s], false) *
-              photo_detail::mask_at(mask_view, masked, proj.uv));
-        });
-      });
-    }
+    if (Status s = weight_pass(ctx, weights); !s) return s.error();
   }
-
-  // 5. Colour pass, one photo at a time (the next one decoded meanwhile).
-  const PhotoReader read_in_order = photo_detail::prefetching_reader(read, photos);
-  std::vector<std::array<float, 3>> rgb(ns, {0.f, 0.f, 0.f});
-  std::vector<float> cosine;  // keep_points: the weighted sum of cos(theta)
-  if (po.keep_points) cosine.assign(ns, 0.f);
-  for (std::size_t c = 0; c < photos.size(); ++c) {
-    const Photo& photo = photos[c];
-    PhotoCameraStats scratch_stats;
-    std::vector<std::string> scratch_warnings;  // the vertex bake gave them
-    bool unreadable = false;                    // read by stage 1 already: now an error
-    Expected<PhotoImage> image =
-        photo_detail::load_photo(photo, read_in_order, scratch_stats, scratch_warnings, unreadable);
-    if (!image) {
-      return unreadable ? photo_detail::unreadable_photo_error(photo, image.error())
-                        : image.error();
-    }
-    const ImageView view{image->width, image->height, image->pixels.data()};
-    const bool masked = result.cameras[c].masked;
-    const CameraLook look(photo.camera, po.max_view_angle_deg);
-    const std::vector<uint64_t>& bits = seen_by[c];
-    const std::array<double, 3> gain = result.cameras[c].gain;
-    std::vector<double> share(blocks, 0.0);
-    parallel_for_blocks(ns, kBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
-      double block_share = 0;
-      for_each_seen(bits, begin, end, [&](std::size_t s) {
-        const SurfaceSample sp = surface_point(uv_mesh, normals, raster, s);
-        const CameraProjection proj = photo.camera.project(sp.p);
-        const bool is_best = !best.empty() && best[s] == c;
-        // x: the colour and the mask value m (photo_view.h's sample_masked).
-        const Rgba x = photo_detail::sample_masked(view, masked, proj.uv);
-        const double w = blend_weight(po.blend, look.quality(sp.p, sp.n, proj), q_max[s], is_best) *
-                         x[3] / total[s];
-        if (!(w > 0)) return;
-        for (int ch = 0; ch < 3; ++ch) rgb[s][ch] += static_cast<float>(w * gain[ch] * x[ch]);
-        if (!cosine.empty()) {
-          cosine[s] += static_cast<float>(w * dot(sp.n, normalize(look.centre() - sp.p)));
-        }
-        block_share += w;
-      });
-      share[block] = block_share;
-    });
-    double sum = 0;
-    for (double v : share) sum += v;
-    result.cameras[c].weight_share = sum;
-    seen_by[c] = {};  // no pass needs this camera's bits any more
-  }
-  seen_by = {};
+  points.rgb.assign(ns, {0.f, 0.f, 0.f});
+  if (po.keep_points) points.cosine.assign(ns, 0.f);
+  if (Status s = colour_pass(ctx, weights, points, result.cameras); !s) return s.error();
   result.seconds_photos = seconds_since(t0);
 
-  // 6. Texels: the mean of their samples, in linear light, to sRGB.
-  t0 = Clock::now();
-  const int n = options.size;
-  result.atlas.width = result.atlas.height = n;
-  result.atlas.pixels.assign(static_cast<std::size_t>(n) * n * 4, 0.f);
-  result.atlas.color_space = ColorSpace::kSrgb;
-  result.baked.assign(static_cast<std::size_t>(n) * n, 0);
-  const Rgba constant_linear = srgb_to_linear(po.occluded_color);
-  const std::size_t texel_blocks = block_count(result.texels, kTexelBlock);
-  std::vector<std::size_t> seen_block(texel_blocks, 0), filled_block(texel_blocks, 0);
-  parallel_for_blocks(
-      result.texels, kTexelBlock, [&](std::size_t block, std::size_t begin, std::size_t end) {
-        std::size_t seen = 0, filled = 0;
-        for (std::size_t k = begin; k < end; ++k) {
-          std::array<double, 4> acc{0, 0, 0, 0};
-          std::size_t constants = 0;
-          for (std::size_t s = k * spt; s < (k + 1) * spt; ++s) {
-            if (q_max[s] > 0) {
-              ++seen;
-              for (int ch = 0; ch < 3; ++ch) acc[ch] += rgb[s][ch];
-              acc[3] += 1;
-            } else if (fill) {
-              ++filled;
-              add_interpolated(uv_mesh, fill_colors, raster.sample_triangle[s], raster.sample_b1[s],
-                               raster.sample_b2[s], acc);
-            } else {
-              ++constants;
-              for (int ch = 0; ch < 4; ++ch) acc[ch] += constant_linear[ch];
-            }
-          }
-          const std::size_t t = raster.texels[k];
-          const Rgba out = plain_texel(acc, spt, constants, po.occluded_color,
-                                       [](const Rgba& c) { return linear_to_srgb(c); });
-          std::copy(out.begin(), out.end(), result.atlas.pixels.begin() + 4 * t);
-          result.baked[t] = 1;
-        }
-        seen_block[block] = seen;
-        filled_block[block] = filled;
-      });
-  for (std::size_t b = 0; b < texel_blocks; ++b) {
-    result.seen += seen_block[b];
-    result.filled += filled_block[b];
+  // The samples' states, and where each texel's samples start.
+  for (std::size_t s = 0; s < ns; ++s) {
+    if (weights.q_max[s] > 0) {
+      points.state[s] = PhotoPoints::kSeen;
+      ++result.seen;
+    } else if (!points.cosine.empty()) {
+      points.cosine[s] = 1;
+    }
   }
   for (PhotoCameraStats& s : result.cameras) {
     s.weight_share = result.seen ? s.weight_share / static_cast<double>(result.seen) : 0;
   }
-
-  // 7. Pad.
-  result.padded = pad_atlas(result.atlas.pixels, result.baked, n, options.padding);
-  result.seconds_pad = seconds_since(t0);
-  if (po.keep_points) {
-    for (std::size_t s = 0; s < ns; ++s) {
-      if (q_max[s] > 0) {
-        blend.state[s] = PhotoPoints::kSeen;
-      } else {
-        cosine[s] = 1;
-      }
-    }
-    blend.rgb = std::move(rgb);
-    blend.cosine = std::move(cosine);
-    result.sample_texels = raster.texels;
+  result.points.texel_first.assign(static_cast<std::size_t>(options.size) * options.size,
+                                   PhotoLayerPoints::kNoTexel);
+  for (std::size_t k = 0; k < raster.texels.size(); ++k) {
+    result.points.texel_first[raster.texels[k]] = static_cast<uint32_t>(k * spt);
   }
+  return result;
+}
+
+Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
+                                                      const std::vector<Photo>& photos,
+                                                      const PhotoAtlasBakeOptions& options,
+                                                      const PhotoReader& reader) {
+  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
+  if (Status s = check_padding(options.padding); !s) return s.error();
+  PhotoAtlasBakeOptions blend_options = options;
+  blend_options.photo.keep_points = false;  // no angle fade: no cosines
+  Expected<PhotoAtlasBlend> blend = blend_atlas_photos(uv_mesh, photos, blend_options, reader);
+  if (!blend) return blend.error();
+
+  // 6. and 7.: the blend as one "cameras" layer under the single
+  // projection's rule, through the engine's atlas target.
+  LayerInput layer;
+  layer.name = "photos";
+  layer.photos = &blend->points;
+  LayersAtlasOptions atlas;
+  atlas.size = options.size;
+  atlas.samples = options.samples;
+  atlas.padding = options.padding;
+  atlas.layers.alpha = ResultAlpha::kImage;
+  atlas.layers.occluded = options.photo.occluded;
+  atlas.layers.occluded_color = options.photo.occluded_color;
+  Expected<LayersAtlasResult> baked = bake_atlas_layers(uv_mesh, {layer}, atlas);
+  if (!baked) return baked.error();
+
+  PhotoAtlasBakeResult result;
+  result.atlas = std::move(baked->atlas);
+  result.atlas.has_alpha = false;  // alpha 1, or the --occluded colour's
+  result.baked = std::move(baked->baked);
+  result.cameras = std::move(blend->cameras);
+  result.consistency = blend->consistency;
+  result.texels = blend->texels;
+  result.samples = blend->samples;
+  result.border_samples = blend->border_samples;
+  result.seen = blend->seen;
+  result.filled = options.photo.occluded == OccludedMode::kColor ? 0 : blend->samples - blend->seen;
+  result.padded = baked->padded;
+  result.vertices_seen = blend->vertices_seen;
+  result.vertices_filled = baked->vertices_filled;
+  result.vertices_unfilled = baked->vertices_unfilled;
+  result.warnings = std::move(blend->warnings);
+  result.skipped = std::move(blend->skipped);
+  result.seconds_vertex = blend->seconds_vertex;
+  result.seconds_rasterize = blend->seconds_rasterize + baked->seconds_raster;
+  result.seconds_scene = blend->seconds_scene + baked->seconds_scene;
+  result.seconds_geometry = blend->seconds_geometry;
+  result.seconds_photos = blend->seconds_photos;
+  result.seconds_fill = baked->seconds_fill;
+  result.seconds_texels = baked->seconds_layers + baked->seconds_pad;
   return result;
 }
 

@@ -4,13 +4,14 @@
 // bake's vertices, with the same cull, visibility, quality, exposure and
 // blend rules (bake/photo/photo_bake.h, sharing bake/photo/photo_view.h).
 //
-// Stages, photos read one at a time (never all at once):
-//  1. the vertex photo bake (bake_vertex_from_photos) on the same mesh: its
+// Stages, photos read one at a time (never all at once); 1 to 5 are the
+// blend (blend_atlas_photos below), 6 and 7 the bake engine's:
+//  1. the vertex photo blend (blend_vertex_photos) on the same mesh: its
 //     exposure gains (solved on vertex samples) are the atlas's, and its
-//     per-vertex colours (blended, and filled where no photo sees a vertex)
-//     are what unseen samples take under --occluded fill, interpolated
-//     barycentrically over the sample's triangle in linear light, as the
-//     proxy atlas does with its per-vertex fill;
+//     per-vertex blend is what the fill resolves (the vertex photo bake's
+//     colours, bake/engine/photo_vertex.h), for the unseen samples under
+//     --occluded fill, interpolated barycentrically over the sample's
+//     triangle in linear light, as the proxy atlas does with its per-vertex fill;
 //  2. rasterise the layout: covered texels and their supersamples (triangle
 //     and barycentrics);
 //  3. geometry pass, per camera: each sample's point P and normal; cull
@@ -26,12 +27,14 @@
 //     gain times the sample of the linearised photo (the alpha-weighted
 //     bilinear mean, photo_view.h's sample_masked) is added to the
 //     sample's colour (and w / W to the camera's weight share);
-//  6. texel = the plain mean of its samples in linear light, encoded to
-//     sRGB (alpha 1); under --occluded R,G,B a texel all of whose samples
-//     are unseen is the colour exactly, one partly so averages it (decoded)
-//     with its other samples;
+//  6. the blend as one "cameras" layer through the engine's atlas target
+//     under the single projection's rule (bake/engine/layers_bake.h,
+//     ResultAlpha::kImage): texel = the plain mean of its samples in
+//     linear light, encoded to sRGB (alpha 1); under --occluded R,G,B a
+//     texel all of whose samples are unseen is the colour exactly, one
+//     partly so averages it (decoded) with its other samples;
 //  7. padding as the proxy atlas (pad_atlas of bake/atlas/atlas_common.h).
-//
+
 // Normal: the interpolated smooth vertex normal (normalised) gives
 // cos(theta) and the 75-degree cut, as the vertex bake's smooth normals
 // do: q, and so the blend weights, vary continuously across triangle
@@ -48,8 +51,8 @@
 // while they work on one (photo_view.h prefetching_reader): two photos in
 // memory at once. Every photo is read twice (stages 1 and 5).
 //
-// Memory: the samples (12 bytes each), per sample q_max, W and the colour
-// (20 bytes; kBest 4 more), one bit per camera and sample, the atlas, the
+// Memory: the samples (12 bytes each), per sample q_max, W, the colour and
+// its state (21 bytes; kBest 4 more), one bit per camera and sample, the atlas, the
 // Embree scene, two photos (the one baked, the next one read) and the kept
 // masks (one byte per pixel of each masked photo): a 2048 atlas with 4 samples (about 12 M
 // samples at 70 % coverage) and 100 photos holds some 0.6 GB besides the
@@ -67,6 +70,7 @@
 #include <vector>
 
 #include "bake/atlas/atlas_common.h"  // kPaddingDefault, kPaddingInfinite
+#include "bake/engine/layers_bake.h"
 #include "bake/photo/photo_bake.h"
 #include "mesh_io/image_io.h"
 #include "mesh_io/mesh_data.h"
@@ -93,27 +97,45 @@ struct PhotoAtlasBakeResult {
   std::size_t seen = 0;            // samples seen by at least one photo
   std::size_t filled = 0;          // unseen samples coloured by the fill (not --occluded R,G,B)
   std::size_t padded = 0;          // texels filled by padding
-  // The vertex bake's figures (stage 1): vertices seen, filled, unfilled.
+  // Vertices seen by some photo (stage 1), and the fill's: vertices filled,
+  // and left in components no photo sees (they take the --occluded colour).
   std::size_t vertices_seen = 0, vertices_filled = 0, vertices_unfilled = 0;
   std::vector<std::string> warnings;
   // Photos left out by stage 1 (unreadable; PhotoBakeOptions::strict_photos):
   // `cameras` and the later stages have the others only.
   std::vector<SkippedPhoto> skipped;
-  // With options.photo.keep_points: the blend per vertex of uv_mesh (stage
-  // 1) and per supersample (stages 3-5, before texels are averaged and any
-  // fill), the samples in texel order: sample s belongs to the texel
-  // sample_texels[s / samples] (y * size + x). Empty otherwise. Costs 17
-  // bytes per sample more.
-  PhotoPoints vertex_points, sample_points;
-  std::vector<uint32_t> sample_texels;
-  // Seconds: stage 1 (vertex), 2 (rasterize), the scene, 3 (geometry),
-  // 4 and 5 (photos), 6 and 7 (pad).
+  // Seconds: stage 1 (vertex), 2 (rasterize, with the engine's bands), the
+  // scenes, 3 (geometry), 4 and 5 (photos), the fill's solve, 6 and 7 (texels).
   double seconds_vertex = 0, seconds_rasterize = 0, seconds_scene = 0, seconds_geometry = 0,
-         seconds_photos = 0, seconds_pad = 0;
+         seconds_photos = 0, seconds_fill = 0, seconds_texels = 0;
 };
 
+// Stages 1 to 5: the photos' blend per vertex and per atlas supersample,
+// what a "cameras" layer of the engine's atlas target takes.
+struct PhotoAtlasBlend {
+  // Per vertex of uv_mesh (stage 1) and per supersample (texel-major;
+  // texel_first per texel of the size x size atlas); cosines only with
+  // options.photo.keep_points (an angle fade needs them).
+  PhotoLayerPoints points;
+  std::vector<PhotoCameraStats> cameras;  // as PhotoAtlasBakeResult's
+  PhotoConsistency consistency;
+  std::vector<std::string> warnings;
+  std::vector<SkippedPhoto> skipped;
+  std::size_t texels = 0, samples = 0, border_samples = 0;
+  std::size_t seen = 0;           // samples seen by some photo
+  std::size_t vertices_seen = 0;  // vertices seen by some photo
+  double seconds_vertex = 0, seconds_rasterize = 0, seconds_scene = 0, seconds_geometry = 0,
+         seconds_photos = 0;
+};
+
+// Errors: as bake_atlas_from_photos's below but for the padding (not used).
+Expected<PhotoAtlasBlend> blend_atlas_photos(const MeshData& uv_mesh,
+                                             const std::vector<Photo>& photos,
+                                             const PhotoAtlasBakeOptions& options,
+                                             const PhotoReader& reader = {});
+
 // uv_mesh: a mesh with per-corner UVs covering its triangles (as for
-// bake_atlas). Errors: bake_vertex_from_photos's (a photo unreadable or of
+// bake_atlas). Errors: blend_vertex_photos's (a photo unreadable or of
 // the wrong size, no photos, ...), rasterize_atlas's (bad size or samples,
 // no UVs, bad UVs), kInvalidArgument for a bad padding, kInternal (Embree).
 // `reader` (default: mesh_io's read_image) is called twice per photo, in

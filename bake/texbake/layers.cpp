@@ -315,7 +315,7 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
     std::vector<std::string>& warnings = out.atlas.stats.warnings;
     warnings.insert(warnings.begin(), mask_warnings.begin(), mask_warnings.end());
     out.atlas.stats.notes = std::move(notes);
-    // "cameras" layers: the photo atlas bake's blend per vertex and sample.
+    // "cameras" layers: the photos' blend per vertex and sample (blend_atlas_photos).
     std::vector<PhotoLayerPoints> blends(spec.layers.size());
     std::vector<double> photo_seconds(spec.layers.size(), 0.0);
     std::vector<std::vector<SkippedPhoto>> skipped(spec.layers.size());
@@ -325,20 +325,12 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
               PhotoAtlasBakeOptions po;
               po.size = resolved.bake.size;
               po.samples = resolved.bake.samples;
-              po.padding = 0;
               po.photo = layer_photo_options(options);
-              Expected<PhotoAtlasBakeResult> blend = bake_atlas_from_photos(out.atlas.mesh, p, po);
+              Expected<PhotoAtlasBlend> blend = blend_atlas_photos(out.atlas.mesh, p, po);
               if (!blend) return blend.error();
               add_photo_warnings(i, blend->warnings, out.atlas.stats.warnings);
               skipped[i] = std::move(blend->skipped);
-              b.vertices = std::move(blend->vertex_points);
-              b.samples = std::move(blend->sample_points);
-              b.texel_first.assign(static_cast<std::size_t>(po.size) * po.size,
-                                   PhotoLayerPoints::kNoTexel);
-              const auto spt = static_cast<uint32_t>(po.samples);
-              for (std::size_t k = 0; k < blend->sample_texels.size(); ++k) {
-                b.texel_first[blend->sample_texels[k]] = static_cast<uint32_t>(k) * spt;
-              }
+              b = std::move(blend->points);
               return ok_status();
             });
         !s) {

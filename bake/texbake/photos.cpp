@@ -240,8 +240,8 @@ Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
     t.rasterize = baked->seconds_rasterize;
     t.scene_build = baked->seconds_scene;
     t.bake = baked->seconds_geometry + baked->seconds_photos;
-    t.fill = baked->seconds_vertex;
-    t.pad = baked->seconds_pad;
+    t.fill = baked->seconds_vertex + baked->seconds_fill;
+    t.pad = baked->seconds_texels;
     t.total = seconds_since(start);
     return out;
   });

@@ -371,9 +371,13 @@ TEST(PhotoBake, UnseenVerticesFollowTheOccludedModeAndAnUnseenComponentTakesTheC
       } else {
         ASSERT_EQ(constant.colors[v][ch], colour[ch]);  // the colour as given
       }
-      if (v >= hidden_first) ASSERT_EQ(fill.colors[v][ch], colour[ch]);
+      if (v >= hidden_first) {
+        ASSERT_EQ(fill.colors[v][ch], colour[ch]);
+      }
     }
-    if (seen) EXPECT_EQ(fill.colors[v][3], 1.f);  // the blend is opaque
+    if (seen) {
+      EXPECT_EQ(fill.colors[v][3], 1.f);  // the blend is opaque
+    }
   }
   EXPECT_EQ(unseen, mesh.positions.size() - fill.seen);
 }
