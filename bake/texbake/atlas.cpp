@@ -126,8 +126,9 @@ Expected<Atlas> atlas_texture(const MeshData& mesh, MeshData* consumed, const Im
 
 }  // namespace
 
-Expected<Atlas> bake_atlas_texture(const MeshData& mesh, const ImageView& image, const Proxy& proxy,
-                                   const AtlasOptions& options, const RunOptions& run) {
+Expected<Atlas> detail::image_atlas_texture(const MeshData& mesh, const ImageView& image,
+                                            const Proxy& proxy, const AtlasOptions& options,
+                                            const RunOptions& run) {
   return atlas_texture(mesh, nullptr, image, proxy, options, run);
 }
 

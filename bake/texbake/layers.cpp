@@ -190,9 +190,9 @@ Status check_texels_read(const std::vector<Image>& images) {
 
 }  // namespace
 
-Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const LayersSpec& spec,
-                                                     const LayersBakeOptions& given,
-                                                     const RunOptions& run) {
+Expected<LayerColors> detail::layer_vertex_colors(const MeshData& mesh, const LayersSpec& spec,
+                                                  const LayersBakeOptions& given,
+                                                  const RunOptions& run) {
   const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
   if (Status s = validate_options(options); !s) return s.error();
@@ -257,10 +257,9 @@ Expected<LayerColors> bake_vertex_colors_from_layers(const MeshData& mesh, const
   });
 }
 
-Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const LayersSpec& spec,
-                                                    const LayersBakeOptions& given,
-                                                    const AtlasOptions& atlas,
-                                                    const RunOptions& run) {
+Expected<LayerAtlas> detail::layer_atlas_texture(const MeshData& mesh, const LayersSpec& spec,
+                                                 const LayersBakeOptions& given,
+                                                 const AtlasOptions& atlas, const RunOptions& run) {
   const LayersBakeOptions options = with_spec_base(given, spec);
   const auto start = Clock::now();
   if (Status s = validate_options(options); !s) return s.error();

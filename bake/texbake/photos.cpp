@@ -146,10 +146,10 @@ PhotoBakeOptions camera_proxy_options(PhotoBakeOptions options) {
   return options;
 }
 
-Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
-                                                     const std::vector<Photo>& photos,
-                                                     const PhotoBakeOptions& options,
-                                                     const RunOptions& run) {
+Expected<PhotoColors> detail::photo_vertex_colors(const MeshData& mesh,
+                                                  const std::vector<Photo>& photos,
+                                                  const PhotoBakeOptions& options,
+                                                  const RunOptions& run) {
   const auto start = Clock::now();
   if (Status s = validate_options(options); !s) return s.error();
   if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
@@ -186,11 +186,10 @@ Expected<PhotoColors> bake_vertex_colors_from_photos(const MeshData& mesh,
   });
 }
 
-Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
-                                                    const std::vector<Photo>& photos,
-                                                    const PhotoBakeOptions& options,
-                                                    const AtlasOptions& atlas,
-                                                    const RunOptions& run) {
+Expected<PhotoAtlas> detail::photo_atlas_texture(const MeshData& mesh,
+                                                 const std::vector<Photo>& photos,
+                                                 const PhotoBakeOptions& options,
+                                                 const AtlasOptions& atlas, const RunOptions& run) {
   const auto start = Clock::now();
   if (Status s = validate_options(atlas); !s) return s.error();
   if (Status s = validate_options(options); !s) return s.error();

@@ -22,6 +22,25 @@ namespace texbake::detail {
 // bake_vertex_colors (texbake.h) on a visibility scene already built over
 // `mesh` (JobCache::scene; null: built here), the image consumed when
 // `owned` is given (then `image` is its view).
+// The implementations of the per-kind bakes (texbake.h: the public calls
+// over a Bake and their per-kind conveniences call these).
+Expected<VertexColors> image_vertex_colors(const MeshData& mesh, const ImageView& image,
+                                           const Proxy& proxy, const VertexBakeOptions& options,
+                                           const RunOptions& run);
+Expected<Atlas> image_atlas_texture(const MeshData& mesh, const ImageView& image,
+                                    const Proxy& proxy, const AtlasOptions& options,
+                                    const RunOptions& run);
+Expected<PhotoColors> photo_vertex_colors(const MeshData& mesh, const std::vector<Photo>& photos,
+                                          const PhotoBakeOptions& options, const RunOptions& run);
+Expected<PhotoAtlas> photo_atlas_texture(const MeshData& mesh, const std::vector<Photo>& photos,
+                                         const PhotoBakeOptions& options, const AtlasOptions& atlas,
+                                         const RunOptions& run);
+Expected<LayerColors> layer_vertex_colors(const MeshData& mesh, const LayersSpec& spec,
+                                          const LayersBakeOptions& options, const RunOptions& run);
+Expected<LayerAtlas> layer_atlas_texture(const MeshData& mesh, const LayersSpec& spec,
+                                         const LayersBakeOptions& options,
+                                         const AtlasOptions& atlas, const RunOptions& run);
+
 Expected<VertexColors> bake_vertex_colors_on(const MeshData& mesh, const ImageView& image,
                                              Image* owned, const Proxy& proxy,
                                              const VertexBakeOptions& options,

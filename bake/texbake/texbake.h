@@ -56,6 +56,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "bake/atlas/atlas_raster.h"  // kMaxAtlasSize, kMaxAtlasSamples
@@ -293,9 +294,21 @@ Status check_ewa_budget(const Image& image, std::size_t cache_mb, bool linear = 
 
 // ---- Vertex colours -------------------------------------------------------
 
+// What a bake gives per vertex, whatever it projects (bake_vertex_colors
+// over a Bake, below); the fields of the other kinds of bake stay empty.
 struct VertexColors {
-  std::vector<Rgba> colors;  // one per vertex, input order, RGBA in [0, 1], sRGB-encoded
+  // One per vertex, input order, RGBA in [0, 1], sRGB-encoded (layers:
+  // straight alpha = coverage).
+  std::vector<Rgba> colors;
   Stats stats;
+  // Photographs: per photo used, in view, visible, weight share and gains;
+  // the photos left out (cannot be read; also warnings); how well the
+  // photos agree (bake/photo/photo_bake.h).
+  std::vector<PhotoCameraStats> cameras;
+  std::vector<SkippedPhoto> skipped;
+  PhotoConsistency consistency;
+  // Layers: per layer, in domain, visible, blended, mean alpha, lookups.
+  std::vector<LayerStats> layers;
 };
 
 // The most samples per vertex of VertexFilter::kArea.
@@ -384,14 +397,10 @@ Expected<std::vector<Photo>> read_camera_proxy(const std::filesystem::path& came
 // error: without it there is nothing to bake).
 PhotoBakeOptions camera_proxy_options(PhotoBakeOptions options);
 
-struct PhotoColors {
-  std::vector<Rgba> colors;               // one per vertex, sRGB-encoded RGBA in [0, 1]
-  std::vector<PhotoCameraStats> cameras;  // per photo used: in view, visible, weight, gains
-  std::vector<SkippedPhoto> skipped;      // photos left out (cannot be read; also warnings)
-  PhotoConsistency consistency;           // how well the photos agree (bake/photo/photo_bake.h)
-  Stats stats;  // counts.vertices, samples (camera samples blended), filled, unfilled;
-                // timings.scene_build, bake (photos), fill (blend and fill), total
-};
+// A photo bake's VertexColors: colors, cameras, skipped, consistency;
+// stats: counts.vertices, samples (camera samples blended), filled,
+// unfilled; timings.scene_build, bake (photos), fill (blend and fill), total.
+using PhotoColors = VertexColors;
 
 // Vertex colours from photos (the contract of bake/photo/photo_bake.h). A
 // photo that cannot be read is left out with a warning (stats.warnings) and
@@ -483,12 +492,10 @@ Expected<RefinedCameras> refine_cameras(const MeshData& mesh, const std::vector<
 // to the file). Errors: kInput naming the file and the key.
 Expected<LayersSpec> read_layers(const std::filesystem::path& layers_file);
 
-struct LayerColors {
-  std::vector<Rgba> colors;        // per vertex: sRGB-encoded RGB, alpha = coverage
-  std::vector<LayerStats> layers;  // per layer: in domain, visible, blended, mean alpha
-  Stats stats;  // counts.vertices, samples (vertices x layers), occluded (uncovered),
-                // filled; timings.scene_build, bake (layers), fill, total
-};
+// A layers bake's VertexColors: colors (alpha = coverage), layers; stats:
+// counts.vertices, samples (vertices x layers), occluded (uncovered),
+// filled; timings.scene_build, bake (layers), fill, total.
+using LayerColors = VertexColors;
 
 // Vertex colours composited from the layers of `spec` over its base
 // (spec.base and base_color; of `options` only the occluded rule is used;
@@ -533,6 +540,20 @@ struct Atlas {
   Stats stats;
 };
 
+// What an atlas bake gives, whatever it projects (bake_atlas_texture over
+// a Bake, below): the atlas, and the fields of VertexColors that describe
+// the projection (the other kinds' stay empty): per photo over the atlas
+// samples (in_view, visible, weight_share; the exposure gains, solved on
+// the vertices, bake/engine/photo_atlas.h), the photos left out, their
+// consistency (measured on the vertices); per layer over the supersamples.
+struct BakedAtlas {
+  Atlas atlas;
+  std::vector<PhotoCameraStats> cameras;
+  std::vector<SkippedPhoto> skipped;
+  PhotoConsistency consistency;
+  std::vector<LayerStats> layers;
+};
+
 // The whole atlas pipeline: UV layout (bake/uv/uv_layout.h, with the gutter
 // rule: generated charts at least kMinGutter texels apart), bake
 // (bake/engine/bake_atlas.h), padding (by default rings, then a mip-safe
@@ -562,15 +583,14 @@ Status validate_options(const AtlasOptions& options);
 
 // ---- Atlas from layers (SPEC section 10) -----------------------------------
 
-struct LayerAtlas {
-  Atlas atlas;  // mesh with the UVs, image (sRGB, straight alpha = coverage), uv, blend, stats
-  // Per layer, over the atlas supersamples: in domain, visible, blended,
-  // mean alpha. atlas.stats: counts.texels, samples, occluded (samples with
-  // coverage 0), border_samples, padded; timings.uv_layout, fill (the
-  // vertex pass giving the fill's colours), scene_build, bake (the layers
-  // over every sample), pad, total; warnings of the layout.
-  std::vector<LayerStats> layers;
-};
+// A layers bake's BakedAtlas: atlas (mesh with the UVs, image: sRGB,
+// straight alpha = coverage; uv, blend, stats) and layers (per layer, over
+// the atlas supersamples: in domain, visible, blended, mean alpha).
+// atlas.stats: counts.texels, samples, occluded (samples with coverage 0),
+// border_samples, padded; timings.uv_layout, fill (the vertex pass giving
+// the fill's colours), scene_build, bake (the layers over every sample),
+// pad, total; warnings of the layout.
+using LayerAtlas = BakedAtlas;
 
 // The atlas target of bake --layers (the contract of bake_atlas_layers in
 // bake/engine/layers_bake.h): the UV layout of atlas.uv (kAuto, kMesh or
@@ -602,20 +622,14 @@ Expected<LayerAtlas> bake_atlas_texture_from_layers(const MeshData& mesh, const 
 
 // ---- Atlas from photographs (SPEC section 9) -------------------------------
 
-struct PhotoAtlas {
-  Atlas atlas;  // mesh with the UVs, image (sRGB), uv, stats (below)
-  // Per photo, over the atlas samples: in_view, visible, weight_share; the
-  // exposure gains (solved on the vertices, see bake/engine/photo_atlas.h).
-  std::vector<PhotoCameraStats> cameras;
-  std::vector<SkippedPhoto> skipped;  // photos left out (cannot be read; also warnings)
-  PhotoConsistency consistency;       // measured on the vertices, as the gains
-  // atlas.stats: counts.texels, samples (atlas supersamples), occluded
-  // (samples no photo sees), filled (of those, coloured by the fill),
-  // unfilled (vertices in components no photo sees), border_samples,
-  // padded; timings.uv_layout, rasterize, scene_build, bake (the atlas's
-  // geometry and photo passes), fill (the vertex photo bake: gains and the
-  // fill's colours), pad, total.
-};
+// A photo bake's BakedAtlas: atlas (mesh with the UVs, image: sRGB; uv,
+// stats), cameras, skipped, consistency. atlas.stats: counts.texels,
+// samples (atlas supersamples), occluded (samples no photo sees), filled
+// (of those, coloured by the fill), unfilled (vertices in components no
+// photo sees), border_samples, padded; timings.uv_layout, rasterize,
+// scene_build, bake (the atlas's geometry and photo passes), fill (the
+// vertex blend: gains, and the fill's solve), pad (texels and padding), total.
+using PhotoAtlas = BakedAtlas;
 
 // The atlas target of bake --cameras (the contract of
 // bake/engine/photo_atlas.h): the UV layout of atlas.uv (kAuto, kMesh or
@@ -636,6 +650,52 @@ Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
                                                     const PhotoBakeOptions& options = {},
                                                     const AtlasOptions& atlas = {},
                                                     const RunOptions& run = {});
+
+// ---- One bake description, two targets -------------------------------------
+//
+// Every bake above is one of three kinds of projection onto the mesh, and
+// every per-kind call above is a one-line convenience over the two calls
+// below, which take the kind as a value (a client that builds bakes from a
+// description, such as a job runner, needs no branch per kind):
+//
+//   texbake::Bake bake = texbake::PhotoProjection{*photos, {}};
+//   auto colors = texbake::bake_vertex_colors(mesh->mesh, bake);      // per vertex
+//   auto atlas = texbake::bake_atlas_texture(mesh->mesh, bake, {});   // an atlas
+
+// An image through an analytic proxy (SPEC sections 3 and 4). `image` is
+// not owned: it must outlive the call.
+struct ImageProjection {
+  ImageView image;
+  Proxy proxy;
+  // The lookup (filter, samples), visibility, occluded, outside, wrap and
+  // linear; on the atlas target the lookup of each supersample
+  // (AtlasOptions::bake.shading is replaced by these).
+  VertexBakeOptions options;
+};
+// Calibrated photographs (SPEC section 9; one photo through a camera proxy
+// file: read_camera_proxy, with camera_proxy_options).
+struct PhotoProjection {
+  std::vector<Photo> photos;
+  PhotoBakeOptions options;  // blend, exposure, occluded (+ colour), strict photos, ...
+};
+// A stack of layers over a base (SPEC section 10; read_layers).
+struct LayersProjection {
+  LayersSpec spec;
+  LayersBakeOptions options;  // occluded, strict photos, cache budget (the base is spec's)
+};
+using Bake = std::variant<ImageProjection, PhotoProjection, LayersProjection>;
+
+// Per-vertex colours of `bake`: bake_vertex_colors (image),
+// bake_vertex_colors_from_photos or bake_vertex_colors_from_layers above,
+// by its kind, with their contracts, errors and progress stages.
+Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, const Bake& bake,
+                                          const RunOptions& run = {});
+
+// An atlas of `bake`: bake_atlas_texture (image),
+// bake_atlas_texture_from_photos or bake_atlas_texture_from_layers above,
+// by its kind, with their contracts, errors and progress stages.
+Expected<BakedAtlas> bake_atlas_texture(const MeshData& mesh, const Bake& bake,
+                                        const AtlasOptions& atlas = {}, const RunOptions& run = {});
 
 // ---- Render and compare ---------------------------------------------------
 

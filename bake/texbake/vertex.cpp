@@ -61,9 +61,10 @@ Status validate_options(const VertexBakeOptions& options) {
   return detail::check_shading_colors(options);
 }
 
-Expected<VertexColors> bake_vertex_colors(const MeshData& mesh, const ImageView& image,
-                                          const Proxy& proxy, const VertexBakeOptions& options,
-                                          const RunOptions& run) {
+Expected<VertexColors> detail::image_vertex_colors(const MeshData& mesh, const ImageView& image,
+                                                   const Proxy& proxy,
+                                                   const VertexBakeOptions& options,
+                                                   const RunOptions& run) {
   return bake(mesh, image, proxy, options, run, nullptr, [] {});
 }
 

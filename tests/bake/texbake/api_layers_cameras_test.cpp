@@ -233,6 +233,74 @@ TEST(LayersCameras, AtlasTexelsMixOrKeepTheBaseInTheShadow) {
   EXPECT_LT(baked->layers[0].visible, baked->layers[0].in_domain);  // the shadow
 }
 
+// The two calls over a Bake (texbake.h, "One bake description, two
+// targets"): bakes of the three kinds in one list go through the same two
+// calls with no branch per kind. Each result carries its kind's figures
+// (cameras for photos, layers for a stack, neither for an image), and the
+// colours are worked out by hand: a constant image (level 51) through a
+// plane proxy over the square, the photo's level (153), and the photo over
+// a grey base at opacity 0.5 (mixed in linear light); per vertex and in
+// every covered texel of a 16 atlas.
+TEST(OneBakeDescription, EveryKindThroughTheSameTwoCalls) {
+  const fs::path dir = test_dir();
+  const fs::path list = write_cameras(dir, {kTop});
+  Expected<std::vector<Photo>> photos = read_cameras(list);
+  ASSERT_TRUE(photos) << photos.error().message;
+  const Image image = test::constant_image(8, 8, Rgba{0.2f, 0.2f, 0.2f, 1});
+  Expected<Proxy> plane = make_proxy(PlaneParams{{-1, -1, 0}, {2, 0, 0}, {0, 2, 0}});
+  ASSERT_TRUE(plane);
+  PhotoBakeOptions photo_options;
+  photo_options.exposure = ExposureMode::kNone;
+  const std::vector<Bake> bakes{
+      ImageProjection{image.view(), *plane, {}},
+      PhotoProjection{*photos, photo_options},
+      LayersProjection{layers(dir, R"({"base":[0.2,0.2,0.2,1],
+          "layers":[{"cameras":"cameras.json","opacity":0.5}]})"),
+                       {}},
+  };
+  const double want[] = {0.2, 0.6, to_srgb(0.5 * to_linear(0.6) + 0.5 * to_linear(0.2))};
+  const MeshData mesh = plane_mesh();
+  AtlasOptions atlas;
+  atlas.uv = UvLayout::kMesh;
+  atlas.bake.size = 16;
+  for (std::size_t k = 0; k < bakes.size(); ++k) {
+    SCOPED_TRACE("bake " + std::to_string(k));
+    Expected<VertexColors> vertex = bake_vertex_colors(mesh, bakes[k]);
+    ASSERT_TRUE(vertex) << vertex.error().message;
+    ASSERT_EQ(vertex->colors.size(), 81u);
+    for (const Rgba& c : vertex->colors) {
+      for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(c[ch], want[k], 1e-5);
+      ASSERT_NEAR(c[3], 1, 1e-6);
+    }
+    Expected<BakedAtlas> baked = bake_atlas_texture(mesh, bakes[k], atlas);
+    ASSERT_TRUE(baked) << baked.error().message;
+    const Image& img = baked->atlas.image;
+    ASSERT_EQ(img.width, 16);
+    std::size_t covered = 0;
+    for (int y = 0; y < 16; ++y) {
+      // The chart, u in [0, 0.5], and the column its edge u = 0.5 touches
+      // (conservative coverage: samples clamped onto the chart).
+      for (int x = 0; x < 9; ++x) {
+        const float* p = &img.pixels[4 * (static_cast<std::size_t>(y) * 16 + x)];
+        for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(p[ch], want[k], 1e-5) << x << "," << y;
+        ++covered;
+      }
+    }
+    EXPECT_EQ(covered, 144u);
+    EXPECT_EQ(baked->atlas.stats.counts.texels, 144u);
+    // Each kind's own figures, and only those.
+    const std::size_t cameras = k == 1 ? 1 : 0, stack = k == 2 ? 1 : 0;
+    EXPECT_EQ(vertex->cameras.size(), cameras);
+    EXPECT_EQ(baked->cameras.size(), cameras);
+    EXPECT_EQ(vertex->layers.size(), stack);
+    EXPECT_EQ(baked->layers.size(), stack);
+    if (cameras) {
+      EXPECT_EQ(vertex->cameras[0].visible, 81u);
+      EXPECT_EQ(baked->cameras[0].visible, baked->atlas.stats.counts.samples);
+    }
+  }
+}
+
 TEST(LayersCameras, MissingCamerasOrPhotosAreInputErrors) {
   const fs::path dir = test_dir();
   {
