@@ -351,6 +351,31 @@ std::vector<Photo> readable_photos(const std::vector<Photo>& all_photos,
   return readable;
 }
 
+// The samples' states (kSeen where some photo sees them; without one,
+// cosine 1), the count seen, the cameras' weight shares normalised by it,
+// and where each texel's samples start.
+void finish_blend(const AtlasRaster& raster, int size, const SampleWeights& weights,
+                  PhotoAtlasBlend& result) {
+  PhotoPoints& points = result.points.samples;
+  for (std::size_t s = 0; s < raster.sample_count(); ++s) {
+    if (weights.q_max[s] > 0) {
+      points.state[s] = PhotoPoints::kSeen;
+      ++result.seen;
+    } else if (!points.cosine.empty()) {
+      points.cosine[s] = 1;
+    }
+  }
+  for (PhotoCameraStats& s : result.cameras) {
+    s.weight_share = result.seen ? s.weight_share / static_cast<double>(result.seen) : 0;
+  }
+  const auto spt = static_cast<std::size_t>(raster.samples_per_texel);
+  result.points.texel_first.assign(static_cast<std::size_t>(size) * size,
+                                   PhotoLayerPoints::kNoTexel);
+  for (std::size_t k = 0; k < raster.texels.size(); ++k) {
+    result.points.texel_first[raster.texels[k]] = static_cast<uint32_t>(k * spt);
+  }
+}
+
 }  // namespace
 
 Expected<PhotoAtlasBlend> blend_atlas_photos(const MeshData& uv_mesh,
@@ -369,7 +394,6 @@ Expected<PhotoAtlasBlend> blend_atlas_photos(const MeshData& uv_mesh,
   if (!raster_or) return raster_or.error();
   const AtlasRaster& raster = *raster_or;
   const std::size_t ns = raster.sample_count();
-  const std::size_t spt = static_cast<std::size_t>(raster.samples_per_texel);
   result.texels = raster.texels.size();
   result.samples = ns;
   result.border_samples = raster.border_samples;
@@ -437,23 +461,7 @@ Expected<PhotoAtlasBlend> blend_atlas_photos(const MeshData& uv_mesh,
   if (Status s = colour_pass(ctx, weights, points, result.cameras); !s) return s.error();
   result.seconds_photos = seconds_since(t0);
 
-  // The samples' states, and where each texel's samples start.
-  for (std::size_t s = 0; s < ns; ++s) {
-    if (weights.q_max[s] > 0) {
-      points.state[s] = PhotoPoints::kSeen;
-      ++result.seen;
-    } else if (!points.cosine.empty()) {
-      points.cosine[s] = 1;
-    }
-  }
-  for (PhotoCameraStats& s : result.cameras) {
-    s.weight_share = result.seen ? s.weight_share / static_cast<double>(result.seen) : 0;
-  }
-  result.points.texel_first.assign(static_cast<std::size_t>(options.size) * options.size,
-                                   PhotoLayerPoints::kNoTexel);
-  for (std::size_t k = 0; k < raster.texels.size(); ++k) {
-    result.points.texel_first[raster.texels[k]] = static_cast<uint32_t>(k * spt);
-  }
+  finish_blend(raster, options.size, weights, result);
   return result;
 }
 
