@@ -1380,8 +1380,14 @@ Status check_atlas_stack(const MeshData& uv_mesh, const std::vector<LayerInput>&
   }
   const std::size_t atlas_texels = static_cast<std::size_t>(options.size) * options.size;
   for (const LayerInput& in : layers) {
-    if (in.photos && (in.photos->texel_first.size() != atlas_texels ||
-                      in.photos->samples.size() % static_cast<std::size_t>(options.samples))) {
+    if (!in.photos) continue;
+    const PhotoPoints& samples = in.photos->samples;
+    const std::size_t n = samples.size();
+    const bool complete =
+        samples.state.size() == n && samples.rgb.size() == n &&
+        (samples.cosine.size() == n || (samples.cosine.empty() && !in.angle_fade));
+    if (!complete || in.photos->texel_first.size() != atlas_texels ||
+        n % static_cast<std::size_t>(options.samples)) {
       return make_error(ErrorCode::kInvalidArgument,
                         in.name + ": the cameras layer's photo blend is not this atlas's");
     }

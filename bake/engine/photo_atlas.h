@@ -58,10 +58,12 @@
 // samples at 70 % coverage) and 100 photos holds some 0.6 GB besides the
 // photo and the scene (measured: the bunny subdivided to 1.2 M triangles,
 // 10.6 M samples, 8 photos of 960 x 720: 0.81 GB peak for the whole
-// command). An overlapping layout is baked with each sample on
-// its lowest-index triangle (AtlasBakeOptions::resolve_overlaps has no
-// counterpart here: which surface is "visible" differs per photo). Results
-// do not depend on the thread count.
+// command). Stages 6 and 7 hold the blend (13 bytes a sample: state and
+// colour; 17 a vertex), the atlas and, in turn, the fill's solver and the
+// engine's bands. When no triangle reaches the atlas (no texels) no fill
+// runs, and vertices_filled and vertices_unfilled are 0. An overlapping layout is baked with each
+// sample on its lowest-index triangle (AtlasBakeOptions::resolve_overlaps has no counterpart here:
+// which surface is "visible" differs per photo). Results do not depend on the thread count.
 #pragma once
 
 #include <cstddef>

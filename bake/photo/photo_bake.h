@@ -96,8 +96,10 @@ struct PhotoBakeOptions {
   TextureColorSpace color_space = TextureColorSpace::kAuto;
   // Keep the blend per point (PhotoPoints below: a "cameras" layer,
   // bake/engine/layers_bake.h, composites it instead of the colours): the
-  // bakes return it, with the blend's cosines (blend_vertex_photos always
-  // gives the states and colours; their cosines only with this).
+  // vertex photo bake returns it, with the blend's cosines
+  // (blend_vertex_photos and blend_atlas_photos always give the states and
+  // colours, their cosines only with this; bake_atlas_from_photos ignores
+  // it and returns no points).
   bool keep_points = false;
   // Called with each photo the bake uses (its index among them, as in
   // PhotoBakeResult::cameras), its image as loaded (linear light, alpha its

@@ -104,10 +104,10 @@ PhotoBakeOptions layer_photo_options(const LayersBakeOptions& options) {
 // Bakes the photos of every "cameras" layer i with bake(i, photos, blend)
 // into blends[i], points inputs[i] at it and records its seconds. Errors:
 // bake's (as kInput), kCancelled.
-template <class Bake>
+template <class BakeFn>
 Status bake_layer_photos(const std::vector<std::vector<Photo>>& photos, Progress& progress,
                          std::vector<LayerInput>& inputs, std::vector<PhotoLayerPoints>& blends,
-                         std::vector<double>& seconds, Bake bake) {
+                         std::vector<double>& seconds, BakeFn bake) {
   for (std::size_t i = 0; i < photos.size(); ++i) {
     if (photos[i].empty()) continue;
     if (progress.cancelled()) return cancelled_error();
@@ -325,6 +325,8 @@ Expected<LayerAtlas> detail::layer_atlas_texture(const MeshData& mesh, const Lay
               po.size = resolved.bake.size;
               po.samples = resolved.bake.samples;
               po.photo = layer_photo_options(options);
+              // The samples' cosines only for an angle fade (4 bytes a sample).
+              po.photo.keep_points = (*inputs)[i].angle_fade.has_value();
               Expected<PhotoAtlasBlend> blend = blend_atlas_photos(out.atlas.mesh, p, po);
               if (!blend) return blend.error();
               add_photo_warnings(i, blend->warnings, out.atlas.stats.warnings);

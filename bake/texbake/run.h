@@ -19,9 +19,6 @@ class EmbreeScene;
 
 namespace texbake::detail {
 
-// bake_vertex_colors (texbake.h) on a visibility scene already built over
-// `mesh` (JobCache::scene; null: built here), the image consumed when
-// `owned` is given (then `image` is its view).
 // The implementations of the per-kind bakes (texbake.h: the public calls
 // over a Bake and their per-kind conveniences call these).
 Expected<VertexColors> image_vertex_colors(const MeshData& mesh, const ImageView& image,
@@ -41,6 +38,9 @@ Expected<LayerAtlas> layer_atlas_texture(const MeshData& mesh, const LayersSpec&
                                          const LayersBakeOptions& options,
                                          const AtlasOptions& atlas, const RunOptions& run);
 
+// bake_vertex_colors (texbake.h) on a visibility scene already built over
+// `mesh` (JobCache::scene; null: built here), the image consumed when
+// `owned` is given (then `image` is its view).
 Expected<VertexColors> bake_vertex_colors_on(const MeshData& mesh, const ImageView& image,
                                              Image* owned, const Proxy& proxy,
                                              const VertexBakeOptions& options,

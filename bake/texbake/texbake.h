@@ -654,9 +654,13 @@ Expected<PhotoAtlas> bake_atlas_texture_from_photos(const MeshData& mesh,
 // ---- One bake description, two targets -------------------------------------
 //
 // Every bake above is one of three kinds of projection onto the mesh, and
-// every per-kind call above is a one-line convenience over the two calls
-// below, which take the kind as a value (a client that builds bakes from a
-// description, such as a job runner, needs no branch per kind):
+// the six per-kind calls above that take their inputs by const reference
+// are one-line conveniences over the two calls below, which take the kind
+// as a value (a client holding bakes of several kinds needs no branch per
+// kind). The two that take over their input to free it early
+// (bake_vertex_colors with an Image&&, bake_atlas_texture with a
+// MeshData&&) have no counterpart here: a Bake does not own its image, and
+// these calls copy what they need of the mesh.
 //
 //   texbake::Bake bake = texbake::PhotoProjection{*photos, {}};
 //   auto colors = texbake::bake_vertex_colors(mesh->mesh, bake);      // per vertex

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <string>
 
 #include "tests/bake/test_meshes.h"
@@ -235,30 +236,53 @@ TEST(LayersCameras, AtlasTexelsMixOrKeepTheBaseInTheShadow) {
 
 // The two calls over a Bake (texbake.h, "One bake description, two
 // targets"): bakes of the three kinds in one list go through the same two
-// calls with no branch per kind. Each result carries its kind's figures
-// (cameras for photos, layers for a stack, neither for an image), and the
-// colours are worked out by hand: a constant image (level 51) through a
-// plane proxy over the square, the photo's level (153), and the photo over
-// a grey base at opacity 0.5 (mixed in linear light); per vertex and in
-// every covered texel of a 16 atlas.
-TEST(OneBakeDescription, EveryKindThroughTheSameTwoCalls) {
+// calls with no branch per kind. Each bake has an option that is not the
+// default and changes the result, so a dispatch that dropped the kind's
+// options would fail: the image (level 51) through a plane proxy over the
+// left half (x < 0) with an --outside colour for the right half (the
+// atlas's own shading, clamp, must not replace it); a photo (level 153)
+// from a camera so close that it sees only |x|, |y| < 0.5, the rest taking
+// an --occluded colour; the same photo as a layer over "none", whose
+// uncovered points take the --occluded colour's RGB with alpha 0. Each
+// result carries its kind's figures (cameras for photos, layers for a
+// stack, neither for an image). Per vertex, and per texel of a 16 atlas
+// (texel centres and their samples never straddle x = 0 or |x|, |y| = 0.5).
+TEST(OneBakeDescription, EveryKindThroughTheSameTwoCallsWithItsOwnOptions) {
   const fs::path dir = test_dir();
-  const fs::path list = write_cameras(dir, {kTop});
+  const fs::path list = write_cameras(dir, {Cam{"near.png", {0, 0, 0.5}, {0, 1, 0}, 153}});
   Expected<std::vector<Photo>> photos = read_cameras(list);
   ASSERT_TRUE(photos) << photos.error().message;
   const Image image = test::constant_image(8, 8, Rgba{0.2f, 0.2f, 0.2f, 1});
-  Expected<Proxy> plane = make_proxy(PlaneParams{{-1, -1, 0}, {2, 0, 0}, {0, 2, 0}});
+  Expected<Proxy> plane = make_proxy(PlaneParams{{-1, -1, 0}, {1, 0, 0}, {0, 2, 0}});
   ASSERT_TRUE(plane);
+  const Rgba other{0.8f, 0.7f, 0.1f, 1};
+  VertexBakeOptions image_options;
+  image_options.outside = OutsideMode::kColor;
+  image_options.outside_color = other;
   PhotoBakeOptions photo_options;
-  photo_options.exposure = ExposureMode::kNone;
+  photo_options.occluded = OccludedMode::kColor;
+  photo_options.occluded_color = other;
+  LayersBakeOptions layer_options;
+  layer_options.occluded = OccludedMode::kColor;
+  layer_options.occluded_color = other;
   const std::vector<Bake> bakes{
-      ImageProjection{image.view(), *plane, {}},
+      ImageProjection{image.view(), *plane, image_options},
       PhotoProjection{*photos, photo_options},
-      LayersProjection{layers(dir, R"({"base":[0.2,0.2,0.2,1],
-          "layers":[{"cameras":"cameras.json","opacity":0.5}]})"),
-                       {}},
+      LayersProjection{layers(dir, R"({"layers":[{"cameras":"cameras.json"}]})"), layer_options},
   };
-  const double want[] = {0.2, 0.6, to_srgb(0.5 * to_linear(0.6) + 0.5 * to_linear(0.2))};
+  // The colour at (x, y) by hand, and whether to check it (not on a border).
+  const auto want = [&](std::size_t kind, double x, double y) -> std::optional<Rgba> {
+    if (kind == 0) {
+      if (std::abs(x) < 1e-9) return std::nullopt;
+      return x < 0 ? Rgba{0.2f, 0.2f, 0.2f, 1} : other;
+    }
+    if (std::abs(std::abs(x) - 0.5) < 1e-9 || std::abs(std::abs(y) - 0.5) < 1e-9) {
+      return std::nullopt;
+    }
+    const bool seen = std::abs(x) < 0.5 && std::abs(y) < 0.5;
+    if (seen) return Rgba{0.6f, 0.6f, 0.6f, 1};
+    return kind == 1 ? other : Rgba{other[0], other[1], other[2], 0};
+  };
   const MeshData mesh = plane_mesh();
   AtlasOptions atlas;
   atlas.uv = UvLayout::kMesh;
@@ -268,26 +292,39 @@ TEST(OneBakeDescription, EveryKindThroughTheSameTwoCalls) {
     Expected<VertexColors> vertex = bake_vertex_colors(mesh, bakes[k]);
     ASSERT_TRUE(vertex) << vertex.error().message;
     ASSERT_EQ(vertex->colors.size(), 81u);
-    for (const Rgba& c : vertex->colors) {
-      for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(c[ch], want[k], 1e-5);
-      ASSERT_NEAR(c[3], 1, 1e-6);
+    std::size_t checked = 0, seen = 0;
+    for (std::size_t v = 0; v < 81; ++v) {
+      const Float3& p = mesh.positions[v];
+      const std::optional<Rgba> w = want(k, p.x, p.y);
+      if (!w) continue;
+      ++checked;
+      seen += (*w)[0] == 0.6f;
+      for (int ch = 0; ch < 4; ++ch) {
+        ASSERT_NEAR(vertex->colors[v][ch], (*w)[ch], 2e-3) << "vertex " << v << " ch " << ch;
+      }
     }
+    // 81 less the column x = 0, or 7 x 7 off the lines |x|, |y| = 0.5.
+    EXPECT_EQ(checked, k == 0 ? 72u : 49u);
+    EXPECT_EQ(seen, k == 0 ? 0u : 9u);
+
     Expected<BakedAtlas> baked = bake_atlas_texture(mesh, bakes[k], atlas);
     ASSERT_TRUE(baked) << baked.error().message;
     const Image& img = baked->atlas.image;
     ASSERT_EQ(img.width, 16);
-    std::size_t covered = 0;
+    std::size_t texels = 0;
     for (int y = 0; y < 16; ++y) {
-      // The chart, u in [0, 0.5], and the column its edge u = 0.5 touches
-      // (conservative coverage: samples clamped onto the chart).
-      for (int x = 0; x < 9; ++x) {
-        const float* p = &img.pixels[4 * (static_cast<std::size_t>(y) * 16 + x)];
-        for (int ch = 0; ch < 3; ++ch) ASSERT_NEAR(p[ch], want[k], 1e-5) << x << "," << y;
-        ++covered;
+      for (int x = 0; x < 8; ++x) {  // inside the chart u in [0, 0.5]
+        const double px = (x + 0.5) / 16 * 4 - 1, py = (y + 0.5) / 16 * 2 - 1;
+        const std::optional<Rgba> w = want(k, px, py);
+        ASSERT_TRUE(w);
+        const float* t = &img.pixels[4 * (static_cast<std::size_t>(y) * 16 + x)];
+        for (int ch = 0; ch < 4; ++ch) {
+          ASSERT_NEAR(t[ch], (*w)[ch], 1e-5) << x << "," << y << " ch " << ch;
+        }
+        ++texels;
       }
     }
-    EXPECT_EQ(covered, 144u);
-    EXPECT_EQ(baked->atlas.stats.counts.texels, 144u);
+    EXPECT_EQ(texels, 128u);
     // Each kind's own figures, and only those.
     const std::size_t cameras = k == 1 ? 1 : 0, stack = k == 2 ? 1 : 0;
     EXPECT_EQ(vertex->cameras.size(), cameras);
@@ -295,8 +332,10 @@ TEST(OneBakeDescription, EveryKindThroughTheSameTwoCalls) {
     EXPECT_EQ(vertex->layers.size(), stack);
     EXPECT_EQ(baked->layers.size(), stack);
     if (cameras) {
-      EXPECT_EQ(vertex->cameras[0].visible, 81u);
-      EXPECT_EQ(baked->cameras[0].visible, baked->atlas.stats.counts.samples);
+      // |x|, |y| <= 0.5: the photo's edge is in view (at border weight 0).
+      EXPECT_EQ(vertex->cameras[0].visible, 25u);
+      EXPECT_EQ(baked->cameras[0].visible,
+                baked->atlas.stats.counts.samples - baked->atlas.stats.counts.occluded);
     }
   }
 }
