@@ -13,14 +13,10 @@ namespace texbake {
 Expected<AtlasBakeResult> bake_atlas(const MeshData& mesh, const ImageView& image,
                                      const Proxy& proxy, const AtlasBakeOptions& options,
                                      Progress* progress) {
-  LayersAtlasOptions stack;
-  stack.size = options.size;
-  stack.samples = options.samples;
-  stack.padding = options.padding;
+  LayersAtlasOptions stack =
+      single_projection_atlas(options.size, options.samples, options.padding,
+                              options.shading.occluded, options.shading.occluded_color);
   stack.resolve_overlaps = options.resolve_overlaps;
-  stack.layers.alpha = ResultAlpha::kImage;
-  stack.layers.occluded = options.shading.occluded;
-  stack.layers.occluded_color = options.shading.occluded_color;
   // The atlas's lookup is bilinear or EWA (the area filter is the vertex
   // target's: shading.samples is not used here).
   VertexBakeOptions shading = options.shading;

@@ -860,6 +860,18 @@ VertexResolvePlan plan_unknown(const VertexPass& pass, const LayersBakeOptions& 
 
 }  // namespace
 
+LayersAtlasOptions single_projection_atlas(int size, int samples, int padding,
+                                           OccludedMode occluded, const Rgba& occluded_color) {
+  LayersAtlasOptions atlas;
+  atlas.size = size;
+  atlas.samples = samples;
+  atlas.padding = padding;
+  atlas.layers.alpha = ResultAlpha::kImage;
+  atlas.layers.occluded = occluded;
+  atlas.layers.occluded_color = occluded_color;
+  return atlas;
+}
+
 LayerInput single_projection_layer(const ImageView& image, const Proxy& proxy,
                                    const VertexBakeOptions& options) {
   LayerInput in;

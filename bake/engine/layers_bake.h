@@ -307,6 +307,11 @@ struct LayersAtlasOptions {
   bool resolve_overlaps = false;
 };
 
+// The atlas options of a single projection (ResultAlpha::kImage, its
+// occluded rule; size, samples, padding) for bake_atlas_layers.
+LayersAtlasOptions single_projection_atlas(int size, int samples, int padding,
+                                           OccludedMode occluded, const Rgba& occluded_color);
+
 struct LayersAtlasResult {
   Image atlas;                     // size x size RGBA, sRGB-encoded, straight alpha = coverage
   std::vector<uint8_t> baked;      // size * size: 1 where covered by the layout

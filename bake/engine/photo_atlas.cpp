@@ -481,13 +481,9 @@ Expected<PhotoAtlasBakeResult> bake_atlas_from_photos(const MeshData& uv_mesh,
   LayerInput layer;
   layer.name = "photos";
   layer.photos = &blend->points;
-  LayersAtlasOptions atlas;
-  atlas.size = options.size;
-  atlas.samples = options.samples;
-  atlas.padding = options.padding;
-  atlas.layers.alpha = ResultAlpha::kImage;
-  atlas.layers.occluded = options.photo.occluded;
-  atlas.layers.occluded_color = options.photo.occluded_color;
+  const LayersAtlasOptions atlas =
+      single_projection_atlas(options.size, options.samples, options.padding,
+                              options.photo.occluded, options.photo.occluded_color);
   Expected<LayersAtlasResult> baked = bake_atlas_layers(uv_mesh, {layer}, atlas);
   if (!baked) return baked.error();
 
