@@ -167,38 +167,23 @@ PhotoConsistency measure_consistency(const std::vector<uint32_t>& first,
   return c;
 }
 
-}  // namespace
+using SeenBy = std::vector<std::vector<std::pair<uint32_t, Sample>>>;
 
-Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
-                                              const std::vector<Photo>& photos,
-                                              const PhotoBakeOptions& options,
-                                              const PhotoReader& reader) {
-  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
-  // The next photo decoded while this one is baked.
-  const PhotoReader read = photo_detail::prefetching_reader(
-      reader ? reader : PhotoReader(photo_detail::read_photo_file), photos);
+// Per photo, read one at a time (one that cannot be read is left out, unless
+// strict_photos): the cull, the segments to the camera, and for each vertex
+// it sees its quality, linear colour and mask value, into seen_by[c] in
+// vertex order (c: the photo's place among those used, `used`); the
+// cameras' stats in result.cameras, the vertices' states in result.points.
+Status sample_photos(const MeshData& mesh, const std::vector<Float3>& normals,
+                     const EmbreeScene& scene, const std::vector<Photo>& photos,
+                     const PhotoReader& read, const PhotoBakeOptions& options, SeenBy& seen_by,
+                     std::vector<const Photo*>& used, PhotoBakeResult& result) {
   const std::size_t n = mesh.positions.size();
-  PhotoBakeResult result;
-
-  auto start = Clock::now();
-  Expected<EmbreeScene> scene = EmbreeScene::build(mesh, BuildQuality::kLow);
-  if (!scene) return scene.error();
-  const double offset = visibility_offset(*scene);
-  const std::vector<Float3> normals = smooth_vertex_normals(mesh);
-  result.seconds_scene = seconds_since(start);
-
-  // Per camera, per vertex: quality (0 = not seen) and the linear colour;
-  // gathered afterwards into per-vertex lists in camera order.
-  start = Clock::now();
-  std::vector<std::vector<std::pair<uint32_t, Sample>>> seen_by(photos.size());
+  const double offset = visibility_offset(scene);
   std::vector<float> quality(n);
   std::vector<std::array<float, 3>> rgb(n);
   std::vector<float> mask_value;  // n, once a photo has a mask
   PhotoPoints& points = result.points;
-  points.state.assign(n, PhotoPoints::kNoView);
-  // The photos used (readable), in order: samples and stats are numbered
-  // by their place here.
-  std::vector<const Photo*> used;
   for (std::size_t p = 0; p < photos.size(); ++p) {
     const Photo& photo = photos[p];
     const CameraProjector& camera = photo.camera;
@@ -247,7 +232,7 @@ Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
       }
       const std::size_t m = candidates.size();
       occluded.assign(m, 0);
-      occluded_segments(*scene, offset, mesh, candidates, centre, scratch, occluded.data());
+      occluded_segments(scene, offset, mesh, candidates, centre, scratch, occluded.data());
       std::size_t visible = 0;
       for (std::size_t i = 0; i < m; ++i) {
         if (occluded[i]) continue;
@@ -277,22 +262,19 @@ Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
                                                          rgb[v], masked ? mask_value[v] : 1.f}});
     }
   }
-  quality = {};
-  rgb = {};
-  mask_value = {};
-  result.seconds_photos = seconds_since(start);
-  if (used.empty()) return photo_detail::no_usable_photo_error(result.skipped);
-  const std::size_t cameras = used.size();
-  seen_by.resize(cameras);
+  return ok_status();
+}
 
-  // Per-vertex lists of samples, cameras in order (a counting sort).
-  start = Clock::now();
-  std::vector<uint32_t> first(n + 1, 0);
+// The per-vertex lists of samples, cameras in order (a counting sort):
+// vertex v's samples are samples[first[v] .. first[v + 1]). Frees seen_by.
+void gather_samples(SeenBy& seen_by, std::size_t n, std::vector<uint32_t>& first,
+                    std::vector<Sample>& samples) {
+  first.assign(n + 1, 0);
   for (const auto& list : seen_by) {
     for (const auto& [v, s] : list) ++first[v + 1];
   }
   for (std::size_t v = 0; v < n; ++v) first[v + 1] += first[v];
-  std::vector<Sample> samples(first[n]);
+  samples.resize(first[n]);
   {
     std::vector<uint32_t> next(first.begin(), first.end() - 1);
     for (auto& list : seen_by) {
@@ -300,9 +282,16 @@ Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
       list = {};
     }
   }
+}
 
-  // Exposure gains, over the photos that see some vertex.
-  std::vector<std::array<double, 3>> gains(cameras, {1, 1, 1});
+// The exposure gains (over the photos that see some vertex), into
+// result.cameras and `gains`, and the photos' consistency (with its
+// warning).
+Status solve_exposure(const std::vector<uint32_t>& first, const std::vector<Sample>& samples,
+                      const PhotoBakeOptions& options, std::vector<std::array<double, 3>>& gains,
+                      PhotoBakeResult& result) {
+  const std::size_t cameras = result.cameras.size();
+  gains.assign(cameras, {1, 1, 1});
   std::vector<int> index(cameras, -1);
   int active = 0;
   for (std::size_t c = 0; c < cameras; ++c) {
@@ -322,7 +311,19 @@ Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
     if (!doubt.empty()) result.warnings.push_back(std::move(doubt));
   }
 
-  // Blend per vertex, in linear light.
+  return ok_status();
+}
+
+// The blend per vertex, in linear light (result.points: states, colours,
+// cosines with keep_points), the vertices seen and the cameras' weight
+// shares.
+void blend_points(const MeshData& mesh, const std::vector<Float3>& normals,
+                  const std::vector<uint32_t>& first, const std::vector<Sample>& samples,
+                  const std::vector<std::array<double, 3>>& gains,
+                  const std::vector<const Photo*>& used, const PhotoBakeOptions& options,
+                  PhotoBakeResult& result) {
+  const std::size_t n = mesh.positions.size(), cameras = used.size();
+  PhotoPoints& points = result.points;
   points.rgb.assign(n, {0.f, 0.f, 0.f});
   points.cosine.assign(n, 1.f);
   std::vector<std::size_t> seen_chunk(block_count(n, kGrain), 0);
@@ -378,6 +379,50 @@ Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
   for (std::size_t c = 0; c < cameras; ++c) {
     result.cameras[c].weight_share = result.seen ? share[c] / static_cast<double>(result.seen) : 0;
   }
+}
+
+}  // namespace
+
+Expected<PhotoBakeResult> blend_vertex_photos(const MeshData& mesh,
+                                              const std::vector<Photo>& photos,
+                                              const PhotoBakeOptions& options,
+                                              const PhotoReader& reader) {
+  if (photos.empty()) return make_error(ErrorCode::kInvalidArgument, "no photos to bake from");
+  // The next photo decoded while this one is baked.
+  const PhotoReader read = photo_detail::prefetching_reader(
+      reader ? reader : PhotoReader(photo_detail::read_photo_file), photos);
+  const std::size_t n = mesh.positions.size();
+  PhotoBakeResult result;
+
+  auto start = Clock::now();
+  Expected<EmbreeScene> scene = EmbreeScene::build(mesh, BuildQuality::kLow);
+  if (!scene) return scene.error();
+  const std::vector<Float3> normals = smooth_vertex_normals(mesh);
+  result.seconds_scene = seconds_since(start);
+
+  // Per camera, per vertex: quality (0 = not seen) and the linear colour;
+  // gathered afterwards into per-vertex lists in camera order.
+  start = Clock::now();
+  SeenBy seen_by(photos.size());
+  result.points.state.assign(n, PhotoPoints::kNoView);
+  // The photos used (readable), in order: samples and stats are numbered
+  // by their place here.
+  std::vector<const Photo*> used;
+  if (Status s = sample_photos(mesh, normals, *scene, photos, read, options, seen_by, used, result);
+      !s) {
+    return s.error();
+  }
+  result.seconds_photos = seconds_since(start);
+  if (used.empty()) return photo_detail::no_usable_photo_error(result.skipped);
+  seen_by.resize(used.size());
+
+  start = Clock::now();
+  std::vector<uint32_t> first;
+  std::vector<Sample> samples;
+  gather_samples(seen_by, n, first, samples);
+  std::vector<std::array<double, 3>> gains;
+  if (Status s = solve_exposure(first, samples, options, gains, result); !s) return s.error();
+  blend_points(mesh, normals, first, samples, gains, used, options, result);
   result.seconds_blend = seconds_since(start);
   return result;
 }
