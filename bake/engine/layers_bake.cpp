@@ -1411,6 +1411,81 @@ int64_t nanoseconds(Clock::duration d) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(d).count();
 }
 
+// What the band pass leaves besides the atlas: the counts per band and
+// layer (band-major), the deferred texels, and the threads' time in
+// rasterising and in the layers.
+struct BandPass {
+  std::vector<LayerCounts> counts;
+  std::vector<Deferred> deferred;
+  int64_t raster_ns = 0, sample_ns = 0;
+};
+
+// Every band of `bands` rasterised and its texels through the stack into
+// the atlas (pass); the texel, border-sample and coverage totals into
+// `result`. Progress: "sample", per atlas row (`rows`). Errors:
+// kCancelled, kInvalidArgument (a cameras layer's blend does not cover the
+// texels).
+Expected<BandPass> band_pass(const AtlasBands& bands, const AtlasPass& pass,
+                             std::size_t layer_count, int rows, Progress* progress,
+                             LayersAtlasResult& result) {
+  // Bands write disjoint rows of the atlas, and each texel's value depends
+  // only on its own samples: the result is independent of the thread count.
+  // Counts are kept per band and layer and summed in band order.
+  const std::size_t band_count = bands.band_count();
+  BandPass out;
+  out.counts.resize(band_count * layer_count);
+  std::vector<LayerCounts>& counts = out.counts;
+  std::vector<std::size_t> band_texels(band_count, 0), band_border(band_count, 0);
+  std::vector<BandTotals> totals(band_count);
+  std::vector<uint8_t> band_mismatch(band_count, 0);
+  std::atomic<int64_t> raster_ns{0}, sample_ns{0};
+  std::mutex deferred_mutex;
+  if (progress) progress->start("sample", static_cast<std::size_t>(rows));
+  parallel_for_chunks(band_count, 1, [&](std::size_t band_begin, std::size_t band_end) {
+    AtlasWorker w;
+    int64_t r_ns = 0, s_ns = 0;
+    for (std::size_t band = band_begin; band < band_end; ++band) {
+      if (is_cancelled(progress)) break;
+      const auto ta = Clock::now();
+      bands.rasterize(band, w.band, w.scratch);
+      const auto tb = Clock::now();
+      const std::size_t texels = w.band.texels.size();
+      for (std::size_t k = 0; k < texels && !band_mismatch[band]; k += kTexelBatch) {
+        if (!atlas_batch(pass, w, k, std::min(texels, k + kTexelBatch),
+                         counts.data() + band * layer_count, totals[band])) {
+          band_mismatch[band] = 1;
+        }
+      }
+      r_ns += nanoseconds(tb - ta);
+      s_ns += nanoseconds(Clock::now() - tb);
+      band_texels[band] = texels;
+      band_border[band] = w.band.border_samples;
+      if (progress) progress->advance(bands.band_rows(band));
+    }
+    raster_ns += r_ns;
+    sample_ns += s_ns;
+    if (!w.deferred.texels.empty()) {
+      std::lock_guard<std::mutex> lock(deferred_mutex);
+      out.deferred.push_back(std::move(w.deferred));
+    }
+  });
+  if (is_cancelled(progress)) return cancelled_error();
+  if (std::any_of(band_mismatch.begin(), band_mismatch.end(), [](uint8_t b) { return b; })) {
+    return make_error(ErrorCode::kInvalidArgument,
+                      "a cameras layer's photo blend does not cover this atlas's texels");
+  }
+  if (progress) progress->finish();
+  for (std::size_t band = 0; band < band_count; ++band) {
+    result.texels += band_texels[band];
+    result.border_samples += band_border[band];
+    result.uncovered += totals[band].uncovered;
+    if (!totals[band].opaque) result.opaque = false;
+  }
+  out.raster_ns = raster_ns.load();
+  out.sample_ns = sample_ns.load();
+  return out;
+}
+
 }  // namespace
 
 Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
@@ -1526,78 +1601,28 @@ Expected<LayersAtlasResult> bake_atlas_layers(const MeshData& uv_mesh,
   pass.atlas = result.atlas.pixels.data();
   pass.baked = result.baked.data();
 
-  // Bands write disjoint rows of the atlas, and each texel's value depends
-  // only on its own samples: the result is independent of the thread count.
-  // Counts are kept per band and layer and summed in band order.
-  const std::size_t band_count = bands.band_count();
-  std::vector<LayerCounts> counts(band_count * layers.size());
-  std::vector<std::size_t> band_texels(band_count, 0), band_border(band_count, 0);
-  std::vector<BandTotals> totals(band_count);
-  std::vector<uint8_t> band_mismatch(band_count, 0);
-  std::atomic<int64_t> raster_ns{0}, sample_ns{0};
-  std::mutex deferred_mutex;
-  std::vector<Deferred> deferred;
-  if (progress) progress->start("sample", static_cast<std::size_t>(n));
-  parallel_for_chunks(band_count, 1, [&](std::size_t band_begin, std::size_t band_end) {
-    AtlasWorker w;
-    int64_t r_ns = 0, s_ns = 0;
-    for (std::size_t band = band_begin; band < band_end; ++band) {
-      if (is_cancelled(progress)) break;
-      const auto ta = Clock::now();
-      bands.rasterize(band, w.band, w.scratch);
-      const auto tb = Clock::now();
-      const std::size_t texels = w.band.texels.size();
-      for (std::size_t k = 0; k < texels && !band_mismatch[band]; k += kTexelBatch) {
-        if (!atlas_batch(pass, w, k, std::min(texels, k + kTexelBatch),
-                         counts.data() + band * layers.size(), totals[band])) {
-          band_mismatch[band] = 1;
-        }
-      }
-      r_ns += nanoseconds(tb - ta);
-      s_ns += nanoseconds(Clock::now() - tb);
-      band_texels[band] = texels;
-      band_border[band] = w.band.border_samples;
-      if (progress) progress->advance(bands.band_rows(band));
-    }
-    raster_ns += r_ns;
-    sample_ns += s_ns;
-    if (!w.deferred.texels.empty()) {
-      std::lock_guard<std::mutex> lock(deferred_mutex);
-      deferred.push_back(std::move(w.deferred));
-    }
-  });
-  if (is_cancelled(progress)) return cancelled_error();
-  if (std::any_of(band_mismatch.begin(), band_mismatch.end(), [](uint8_t b) { return b; })) {
-    return make_error(ErrorCode::kInvalidArgument,
-                      "a cameras layer's photo blend does not cover this atlas's texels");
-  }
-  if (progress) progress->finish();
-  for (std::size_t band = 0; band < band_count; ++band) {
-    result.texels += band_texels[band];
-    result.border_samples += band_border[band];
-    result.uncovered += totals[band].uncovered;
-    if (!totals[band].opaque) result.opaque = false;
-  }
+  Expected<BandPass> swept = band_pass(bands, pass, layers.size(), n, progress, result);
+  if (!swept) return swept.error();
   result.samples = result.texels * pass.spt;
   // Rasterising and sampling interleave per band: the pass's wall time is
   // split between the two in proportion to the thread time each took.
   const double pass_seconds = seconds_since(start);
-  const double busy = static_cast<double>(raster_ns.load() + sample_ns.load());
-  const double raster_share = busy > 0 ? raster_ns.load() / busy : 0;
+  const double busy = static_cast<double>(swept->raster_ns + swept->sample_ns);
+  const double raster_share = busy > 0 ? swept->raster_ns / busy : 0;
   result.seconds_raster = raster_seconds + pass_seconds * raster_share;
   result.seconds_layers = prepare_total + pass_seconds * (1 - raster_share);
 
   // The deferred texels (each independent: their order does not matter).
-  if (!deferred.empty()) {
+  if (!swept->deferred.empty()) {
     start = Clock::now();
     Expected<std::vector<Rgba>> colors =
         atlas_fill_colors(uv_mesh, layers, options, scene->scene(), linear, own_seconds, result);
     if (!colors) return colors.error();
-    finish_deferred(pass, deferred, *colors);
+    finish_deferred(pass, swept->deferred, *colors);
     result.seconds_fill += seconds_since(start);
   }
   scene->own.reset();
-  result.layers = layer_stats(layers, counts, result.samples, own_seconds,
+  result.layers = layer_stats(layers, swept->counts, result.samples, own_seconds,
                               result.seconds_layers - prepare_total);
 
   start = Clock::now();
