@@ -395,12 +395,20 @@ void contributions(const Prepared& layer, const PointFrame& frame, const Vec3* p
   });
 }
 
+// Whether a "cameras" layer's blend holds every array for n points: the
+// states and colours, and the cosines unless the layer has no angle fade
+// (which alone reads them) and they were not computed.
+bool photo_points_complete(const PhotoPoints& points, std::size_t n, const LayerInput& in) {
+  return points.state.size() == n && points.rgb.size() == n &&
+         (points.cosine.size() == n || (points.cosine.empty() && !in.angle_fade));
+}
+
 // One layer's image and rules, ready for layer_block, in a stack whose
 // working space is linear light (`linear`) or the stored encoding. Held by
-// pointer (its rule points at its own pyramid).
+// pointer (its rule points at its own pyramid). A "cameras" layer's vertex
+// blend is checked here; its atlas samples by check_atlas_stack.
 Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
-                                            std::size_t vertex_count,
-                                            std::size_t sample_count = 0) {
+                                            std::size_t vertex_count) {
   auto prepared = std::make_unique<Prepared>();
   Prepared& layer = *prepared;
   layer.input = &in;
@@ -424,13 +432,7 @@ Expected<std::unique_ptr<Prepared>> prepare(const LayerInput& in, bool linear,
     layer.cos_a1 = std::cos((*in.angle_fade)[1] * std::numbers::pi / 180);
   }
   if (in.photos) {
-    const PhotoLayerPoints& p = *in.photos;
-    const auto complete = [&in](const PhotoPoints& pts, std::size_t n) {
-      return pts.state.size() == n && pts.rgb.size() == n &&
-             (pts.cosine.size() == n || (pts.cosine.empty() && !in.angle_fade));
-    };
-    if (!complete(p.vertices, vertex_count) ||
-        (sample_count > 0 && !complete(p.samples, sample_count))) {
+    if (!photo_points_complete(in.photos->vertices, vertex_count, in)) {
       return make_error(ErrorCode::kInvalidArgument,
                         in.name + ": the cameras layer's photo blend does not match the points");
     }
@@ -1393,12 +1395,9 @@ Status check_atlas_stack(const MeshData& uv_mesh, const std::vector<LayerInput>&
   const std::size_t atlas_texels = static_cast<std::size_t>(options.size) * options.size;
   for (const LayerInput& in : layers) {
     if (!in.photos) continue;
-    const PhotoPoints& samples = in.photos->samples;
-    const std::size_t n = samples.size();
-    const bool complete =
-        samples.state.size() == n && samples.rgb.size() == n &&
-        (samples.cosine.size() == n || (samples.cosine.empty() && !in.angle_fade));
-    if (!complete || in.photos->texel_first.size() != atlas_texels ||
+    const std::size_t n = in.photos->samples.size();
+    if (!photo_points_complete(in.photos->samples, n, in) ||
+        in.photos->texel_first.size() != atlas_texels ||
         n % static_cast<std::size_t>(options.samples)) {
       return make_error(ErrorCode::kInvalidArgument,
                         in.name + ": the cameras layer's photo blend is not this atlas's");
